@@ -1,0 +1,16 @@
+# Thin conveniences over CMake presets; the README's commands are the reference.
+.PHONY: deps build test demo asan bench clean
+deps:
+	bash tools/install-deps
+build: deps
+	cmake --preset release && cmake --build --preset release -j2
+test: build
+	xvfb-run -a ctest --preset release -j2
+demo: build
+	xvfb-run -a build/release/tools/orthosonar demo -o out/demo
+asan: deps
+	cmake --preset asan && cmake --build --preset asan -j2 && ctest --preset asan -j2
+bench: build
+	build/release/orthosonar_bench
+clean:
+	rm -rf build
