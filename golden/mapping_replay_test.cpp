@@ -22,8 +22,12 @@ fs::path test_dir() {
 }
 
 std::string cli() {
-  const char* env = std::getenv("ORTHOSONAR_CLI");
-  return env ? env : "orthosonar";
+  if (const char* env = std::getenv("ORTHOSONAR_CLI")) return env;
+  // Beside this executable in the build tree: <build>/golden/.. -> <build>/tools/orthosonar.
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path guess = self.parent_path().parent_path() / "tools" / "orthosonar";
+  return !ec && fs::exists(guess) ? guess.string() : std::string("orthosonar");
 }
 
 struct Run {

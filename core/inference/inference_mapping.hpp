@@ -1,0 +1,72 @@
+#pragma once
+// Mapping systems 3 and 4 (SPEC §6, §8):
+//  - "inference" (paper §VI-D): at each keyframe's pair, the fused points plus the points
+//    whose height was inferred, placed by the keyframe's SLAM pose, like fusion mapping.
+//  - "inference_submap" (beyond the paper): inference on every pair; each pair's cloud
+//    (fused + inferred) is stored in the current keyframe's submap with T_k_t = DR(k)⁻¹ DR(t),
+//    and the map is ∪ T_W_k S_k, exactly like submapping.
+// Both keep one ObjectInference (classifier + per-class height models). Runtime stages:
+// "inference_per_frame" (one call of ObjectInference::process) and "map_update".
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/inference/object_inference.hpp"
+#include "core/mapping/mapping_system.hpp"
+#include "core/mapping/submap.hpp"
+#include "core/result.hpp"
+
+namespace orthosonar::inference {
+
+// Totals of FrameStats over the frames processed.
+struct InferenceCounts {
+  size_t frames = 0;
+  size_t clusters = 0;
+  size_t known = 0;
+  size_t unknown = 0;
+  size_t registration_failures = 0;
+  size_t bayes_updates = 0;
+  size_t inferred_points = 0;
+  size_t fused_points = 0;
+  size_t dropped_pairs = 0;  // submapping: pairs before the first keyframe
+};
+
+class InferenceMapping final : public mapping::MappingSystem {
+ public:
+  InferenceMapping(const InferenceConfig& config, Classifier classifier, bool submapping);
+  std::string name() const override { return submapping_ ? "inference_submap" : "inference"; }
+  void on_pair(const mapping::PairInput& pair) override;
+  void on_keyframe(const mapping::KeyframeInput& keyframe) override;
+  void on_poses_updated(const std::vector<SE3>& T_W_K_slam) override;
+  std::vector<Eigen::Vector3f> map_points_W() const override;
+  std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime() const override;
+  void set_clock(const mapping::StageClock* clock) override { clock_ = clock; }
+  const InferenceCounts& counts() const { return counts_; }
+  const ObjectInference& inference() const { return inference_; }
+
+ private:
+  // Fused + inferred points of one pair, in V.
+  std::vector<Eigen::Vector3f> infer(const mapping::PairInput& pair);
+
+  struct Frame {
+    Time stamp;
+    SE3 T_W_K_dr = SE3::Identity();
+    bool has_cloud = false;
+    std::vector<Eigen::Vector3f> p_K;
+  };
+  ObjectInference inference_;
+  bool submapping_;
+  std::vector<Frame> frames_;          // keyframe mode
+  mapping::SubmapStore store_;         // submap mode
+  std::vector<SE3> T_W_K_;
+  const mapping::StageClock* clock_ = nullptr;
+  mapping::RuntimeStats per_frame_, map_update_;
+  InferenceCounts counts_;
+};
+
+// A system from a serialized model (Classifier::serialize bytes). The caller must have
+// called InferenceRuntime::configure first. Errors when the model cannot be read.
+Result<std::unique_ptr<mapping::MappingSystem>> make_inference_system_from_model(
+    const InferenceConfig& config, bool submapping, const std::string& model_bytes);
+
+}  // namespace orthosonar::inference

@@ -1,0 +1,49 @@
+#pragma once
+// Map metrics (SPEC §7): coverage as occupied 0.1 m voxels, accuracy as the exact
+// point-to-triangle distance from every voxel centroid to the ground-truth mesh, and the
+// absolute trajectory error of keyframe positions.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/events.hpp"
+#include "core/mapping/mesh_distance.hpp"
+#include "core/time.hpp"
+
+namespace orthosonar::mapping {
+
+struct VoxelConfig {
+  double voxel_m = 0.1;
+};
+
+// One centroid per occupied voxel (index floor(x / voxel_m)), ordered by voxel index
+// (x, then y, then z). The result is bit-identical for any order of the input points.
+std::vector<Eigen::Vector3f> voxel_centroids(const std::vector<Eigen::Vector3f>& points,
+                                             const VoxelConfig& config = {});
+// Number of occupied voxels.
+int64_t coverage_voxels(const std::vector<Eigen::Vector3f>& points, const VoxelConfig& config = {});
+
+struct AccuracyStats {
+  int64_t count = 0;
+  double mae_m = 0.0;
+  double rmse_m = 0.0;
+};
+// MAE and RMSE of the distances from each point to the mesh (sums in point order).
+AccuracyStats accuracy(const std::vector<Eigen::Vector3f>& points, const MeshDistance& mesh);
+
+// A timed position.
+struct StampedPosition {
+  Time stamp;
+  Vec3 p_W = Vec3::Zero();
+};
+// Ground truth p_W at `t`, linearly interpolated between the neighbouring truth poses
+// (sorted by stamp); nullopt outside their span.
+std::optional<Vec3> truth_position_at(const std::vector<TruthPose>& truth, Time t);
+// RMSE of estimate positions against truth interpolated at their stamps. Estimates outside
+// the truth span are skipped; nullopt when none remain.
+std::optional<double> absolute_trajectory_error(const std::vector<StampedPosition>& estimate,
+                                                const std::vector<TruthPose>& truth);
+
+}  // namespace orthosonar::mapping

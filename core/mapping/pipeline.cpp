@@ -1,0 +1,155 @@
+#include "core/mapping/pipeline.hpp"
+
+#include <variant>
+
+namespace orthosonar::mapping {
+
+Pipeline::Pipeline(PipelineConfig config)
+    : config_(std::move(config)),
+      dr_(config_.dr),
+      pairer_(Time::from_seconds(config_.fusion.max_pair_dt_s)),
+      slam_(config_.slam) {}
+
+void Pipeline::add_system(std::unique_ptr<MappingSystem> system) {
+  system->set_clock(clock_);
+  systems_.push_back(std::move(system));
+}
+
+void Pipeline::set_clock(const StageClock* clock) {
+  clock_ = clock;
+  for (auto& s : systems_) s->set_clock(clock);
+}
+
+void Pipeline::consume(const Event& event) {
+  ++counts_.events;
+  switch (event.channel) {
+    case Channel::kSonarHorizontal:
+    case Channel::kSonarVertical:
+      if (const auto* p = std::get_if<SonarPing>(&event.payload)) {
+        ++(p->mount == SonarMount::kHorizontal ? counts_.sonar_h : counts_.sonar_v);
+        pairer_.push(*p);
+        drain_pairer();
+      }
+      break;
+    case Channel::kImu:
+      if (const auto* r = std::get_if<ImuReading>(&event.payload)) {
+        ++counts_.imu;
+        dr_.add(*r);
+      }
+      break;
+    case Channel::kDvl:
+      if (const auto* r = std::get_if<DvlReading>(&event.payload)) {
+        ++counts_.dvl;
+        dr_.add(*r);
+      }
+      break;
+    case Channel::kDepth:
+      if (const auto* r = std::get_if<DepthReading>(&event.payload)) {
+        ++counts_.depth;
+        dr_.add(*r);
+      }
+      break;
+    case Channel::kTruthPose:
+      // Metrics only: never read by any estimator.
+      if (const auto* r = std::get_if<TruthPose>(&event.payload)) {
+        ++counts_.truth;
+        truth_.push_back(*r);
+      }
+      break;
+    case Channel::kLabelsHorizontal:
+    case Channel::kLabelsVertical:
+      ++counts_.labels;
+      break;
+  }
+  process_ready(false);
+}
+
+void Pipeline::finish() {
+  pairer_.flush();
+  drain_pairer();
+  process_ready(true);
+}
+
+void Pipeline::drain_pairer() {
+  while (auto pair = pairer_.pop()) pending_.push_back({std::move(pair->first), std::move(pair->second)});
+}
+
+void Pipeline::process_ready(bool final) {
+  // A pair is ready once DR has a state at or after its stamp (its pose is then final).
+  // Pairs are fused in batches of fusion_batch_pairs; at the end whatever remains.
+  const size_t batch = config_.fusion_batch_pairs > 0 ? config_.fusion_batch_pairs : 1;
+  while (!pending_.empty()) {
+    size_t ready = 0;
+    while (ready < pending_.size() && !dr_.empty() && pending_[ready].h.stamp <= dr_.last_time()) ++ready;
+    if (final) ready = pending_.size();
+    if (ready == 0 || (!final && ready < batch)) return;
+    process_batch(ready < batch ? ready : batch);
+  }
+}
+
+void Pipeline::process_batch(size_t n) {
+  std::vector<perception::FusionResult> fused(n);
+  std::vector<RuntimeStats> stats(n);
+  executor_->run(n, [&](size_t i) {
+    ScopedStage timer(clock_, stats[i]);
+    fused[i] = fuse_ ? fuse_(pending_[i].h, pending_[i].v)
+                     : perception::fuse_pair(pending_[i].h, pending_[i].v, config_.fusion);
+  });
+  for (size_t i = 0; i < n; ++i) {
+    fusion_stats_.merge(stats[i]);
+    process_fused(pending_[i], fused[i]);
+  }
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
+}
+
+void Pipeline::process_fused(const PendingPair& p, const perception::FusionResult& fused) {
+  const Time stamp = p.h.stamp;
+  const auto pose = dr_.pose_at(stamp);
+  if (!pose.ok()) {
+    ++counts_.pairs_without_dr;
+    return;
+  }
+  ++counts_.pairs;
+  counts_.detections_h += static_cast<int64_t>(fused.detections_h.size());
+  counts_.detections_v += static_cast<int64_t>(fused.detections_v.size());
+  counts_.matches += static_cast<int64_t>(fused.matches);
+  counts_.culled_low_confidence += static_cast<int64_t>(fused.culled_low_confidence);
+  counts_.fused_points += static_cast<int64_t>(fused.points.size());
+  const SE3& T_W_V = *pose;
+  if (slam_.should_add(T_W_V)) {
+    int id = 0;
+    {
+      ScopedStage timer(clock_, slam_stats_);
+      id = slam_.add_keyframe(stamp, T_W_V,
+                              perception::planar_points_V(p.h, fused.detections_h, config_.fusion.T_V_h));
+    }
+    std::vector<SE3> poses;
+    poses.reserve(slam_.keyframes().size());
+    for (const auto& k : slam_.keyframes()) poses.push_back(k.T_W_V_slam);
+    for (auto& s : systems_) {
+      s->on_keyframe({id, stamp, T_W_V});
+      s->on_poses_updated(poses);
+    }
+  }
+  const PairInput in{stamp, &p.h, &p.v, &fused, T_W_V};
+  for (auto& s : systems_) s->on_pair(in);
+}
+
+PipelineCounts Pipeline::counts() const {
+  PipelineCounts c = counts_;
+  c.unpaired_h = static_cast<int64_t>(pairer_.unpaired_h());
+  c.unpaired_v = static_cast<int64_t>(pairer_.unpaired_v());
+  c.keyframes = static_cast<int64_t>(slam_.keyframes().size());
+  c.loop_closures = static_cast<int64_t>(slam_.accepted_loop_closures());
+  return c;
+}
+
+std::vector<std::pair<std::string, RuntimeStats>> Pipeline::runtime() const {
+  std::vector<std::pair<std::string, RuntimeStats>> out = {{"fusion", fusion_stats_},
+                                                           {"slam_update", slam_stats_}};
+  for (const auto& s : systems_)
+    for (auto& r : s->runtime()) out.push_back(std::move(r));
+  return out;
+}
+
+}  // namespace orthosonar::mapping

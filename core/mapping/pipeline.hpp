@@ -1,0 +1,114 @@
+#pragma once
+// The pipeline (issue 7): one object that owns every stage — dead reckoning, ping pairing,
+// orthogonal fusion, keyframes and SLAM, and the mapping systems — fed events one at a
+// time from any EventSource. Ground truth is collected for metrics only and never reaches
+// an estimate; label channels are ignored.
+//
+// Pairs wait until DR covers their stamp, then are fused in batches through an injected
+// Executor (the tool may run the batch on N threads; fusion is a pure function of the
+// pair, and everything after it runs sequentially in stamp order, so outputs are
+// identical for any thread count). Stage durations come from an injected StageClock.
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/events.hpp"
+#include "core/mapping/mapping_system.hpp"
+#include "core/perception/fusion.hpp"
+#include "core/perception/pairing.hpp"
+#include "core/slam/dead_reckoning.hpp"
+#include "core/slam/keyframe_slam.hpp"
+
+namespace orthosonar::mapping {
+
+// Runs task(0) ... task(n-1), possibly in parallel, and returns when all are done.
+class Executor {
+ public:
+  virtual ~Executor() = default;
+  virtual void run(size_t n, const std::function<void(size_t)>& task) = 0;
+};
+
+class SerialExecutor final : public Executor {
+ public:
+  void run(size_t n, const std::function<void(size_t)>& task) override {
+    for (size_t i = 0; i < n; ++i) task(i);
+  }
+};
+
+struct PipelineConfig {
+  perception::FusionConfig fusion;
+  slam::DrConfig dr;
+  slam::SlamConfig slam;
+  size_t fusion_batch_pairs = 8;  // pairs fused together (in parallel when the executor allows)
+};
+
+struct PipelineCounts {
+  int64_t events = 0;
+  int64_t sonar_h = 0, sonar_v = 0, imu = 0, dvl = 0, depth = 0, truth = 0, labels = 0;
+  int64_t pairs = 0;              // pairs fused
+  int64_t unpaired_h = 0, unpaired_v = 0;
+  int64_t pairs_without_dr = 0;   // pairs outside the DR span (dropped)
+  int64_t detections_h = 0, detections_v = 0;
+  int64_t matches = 0, culled_low_confidence = 0, fused_points = 0;
+  int64_t keyframes = 0;
+  int64_t loop_closures = 0;      // accepted
+};
+
+// Fuses one pair. The default is perception::fuse_pair with the pipeline's config; a tool
+// may supply a cache of earlier results (the sweep fuses each pair once for every cell).
+// Must be a pure function of the pair and safe to call from several threads.
+using FuseFn = std::function<perception::FusionResult(const SonarPing& h, const SonarPing& v)>;
+
+class Pipeline {
+ public:
+  explicit Pipeline(PipelineConfig config = {});
+  // Adds a mapping system (before the first event). Systems are fed in the order added.
+  void add_system(std::unique_ptr<MappingSystem> system);
+  void set_executor(Executor* executor) { executor_ = executor ? executor : &serial_; }
+  void set_clock(const StageClock* clock);
+  void set_fusion(FuseFn fuse) { fuse_ = std::move(fuse); }
+
+  void consume(const Event& event);
+  // End of stream: pairs every pending ping and processes every pair DR can place.
+  void finish();
+
+  const std::vector<std::unique_ptr<MappingSystem>>& systems() const { return systems_; }
+  const slam::KeyframeSlam& slam() const { return slam_; }
+  const slam::DeadReckoning& dead_reckoning() const { return dr_; }
+  PipelineCounts counts() const;
+  // Ground truth seen on the truth channel, in stamp order (metrics only).
+  const std::vector<TruthPose>& truth() const { return truth_; }
+  // Per-stage runtime: "fusion" (one pair), "slam_update" (one keyframe), and each
+  // system's own stages prefixed by nothing (their names are unique).
+  std::vector<std::pair<std::string, RuntimeStats>> runtime() const;
+  const PipelineConfig& config() const { return config_; }
+
+ private:
+  struct PendingPair {
+    SonarPing h, v;
+  };
+  void drain_pairer();
+  void process_ready(bool final);
+  void process_batch(size_t n);
+  void process_fused(const PendingPair& p, const perception::FusionResult& fused);
+
+  PipelineConfig config_;
+  slam::DeadReckoning dr_;
+  perception::PingPairer pairer_;
+  slam::KeyframeSlam slam_;
+  std::vector<std::unique_ptr<MappingSystem>> systems_;
+  SerialExecutor serial_;
+  Executor* executor_ = &serial_;
+  const StageClock* clock_ = nullptr;
+  FuseFn fuse_;
+  std::deque<PendingPair> pending_;
+  std::vector<TruthPose> truth_;
+  PipelineCounts counts_;
+  RuntimeStats fusion_stats_, slam_stats_;
+};
+
+}  // namespace orthosonar::mapping

@@ -1,0 +1,211 @@
+#include "core/perception/cfar.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+
+namespace orthosonar::perception {
+namespace {
+
+// Keeps detections with at least `min_n` of their 8 neighbours detected (neighbours
+// counted in the unfiltered set). `dets` is row-major sorted: lookups by binary search.
+std::vector<Detection> filter_isolated(std::vector<Detection> dets, int min_n) {
+  if (min_n <= 0 || dets.empty()) return dets;
+  auto less = [](const Detection& a, const Detection& b) {
+    return a.row != b.row ? a.row < b.row : a.col < b.col;
+  };
+  auto has = [&](int r, int c) {
+    return std::binary_search(dets.begin(), dets.end(), Detection{r, c, 0.0f}, less);
+  };
+  std::vector<Detection> kept;
+  for (const Detection& d : dets) {
+    int n = 0;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc)
+        if ((dr != 0 || dc != 0) && has(d.row + dr, d.col + dc)) ++n;
+    if (n >= min_n) kept.push_back(d);
+  }
+  return kept;
+}
+
+// Prefix sums along range (per column) and along bearing (per row): O(1) per cell.
+// Acc is exact (integer) for integer images, so the ratio test below is exactly
+// scale-invariant: x N / S is a correctly rounded quotient of exactly scaled integers.
+template <class Pixel, class Acc>
+std::vector<Detection> detect(const Pixel* img, int rows, int cols, const CfarConfig& cfg) {
+  std::vector<Detection> out;
+  if (rows <= 0 || cols <= 0 || cfg.train_cells <= 0 || cfg.guard_cells < 0) return out;
+  const size_t C = static_cast<size_t>(cols);
+  const bool cross = cfg.window == CfarWindow::kCross;
+  // Column prefix sums along range, P_i[c] = sum of rows [0, i) in column c, kept in a
+  // ring of the K most recent rows: a cell only ever needs P between its leading and
+  // lagging window ends, at most 2(g + t) + 1 rows apart. O(K cols) memory, cache-resident.
+  const int K = 2 * (cfg.guard_cells + cfg.train_cells) + 2;
+  std::vector<Acc> ring(static_cast<size_t>(K) * C, Acc{0});
+  auto prefix_row = [&](int i) { return ring.data() + static_cast<size_t>(i % K) * C; };
+  int computed = 0;  // P_0 .. P_computed are available (P_0 = 0 is the ring's zero row)
+  // Row prefix sums along bearing for the current row: Q[c] = sum of cols [0, c).
+  std::vector<Acc> q(C + 1, Acc{0});
+  std::vector<int> cand(C);
+  // x > gate, exactly, in the pixel's own type: for integers x > gate <=> x > floor(gate).
+  const double gate_floor = std::floor(std::clamp(cfg.gate, -1.0, 1e6));
+  const auto gate_i = static_cast<int64_t>(gate_floor);
+  const double gate_d = cfg.gate;
+  auto above_gate = [gate_i, gate_d](Pixel x) {
+    if constexpr (std::is_integral_v<Pixel>) {
+      return static_cast<int64_t>(x) > gate_i;
+    } else {
+      return static_cast<double>(x) > gate_d;
+    }
+  };
+  const int t = cfg.train_cells, g = cfg.guard_cells;
+  const int max_n = cross ? 4 * t : 2 * t;
+  std::vector<double> alpha(static_cast<size_t>(max_n) + 1, 0.0);
+  for (int n = 1; n <= max_n; ++n) alpha[static_cast<size_t>(n)] = cfar_alpha(n, cfg.pfa);
+
+  using Wide = std::conditional_t<std::is_integral_v<Acc>, int64_t, double>;
+  Wide sums[4];
+  int counts[4];
+  for (int r = 0; r < rows; ++r) {
+    // Range extents do not depend on the column.
+    const int lead_lo = std::max(0, r - g - t), lead_hi = r - g;          // rows [lo, hi)
+    const int lag_lo = r + g + 1, lag_hi = std::min(rows, r + g + 1 + t);
+    const int n_lead = std::max(0, lead_hi - lead_lo), n_lag = std::max(0, lag_hi - lag_lo);
+    while (computed < lag_hi) {  // P_{i+1} = P_i + row i
+      const Acc* prev = prefix_row(computed);
+      Acc* next = prefix_row(computed + 1);
+      const Pixel* src = img + static_cast<size_t>(computed) * C;
+      for (size_t c = 0; c < C; ++c) next[c] = prev[c] + static_cast<Acc>(src[c]);
+      ++computed;
+    }
+    const Pixel* line = img + static_cast<size_t>(r) * C;
+    // Cells above the gate, branch-free (most of a sonar image is below it).
+    size_t n_cand = 0;
+    for (size_t c = 0; c < C; ++c) {
+      cand[n_cand] = static_cast<int>(c);
+      n_cand += above_gate(line[c]) ? 1u : 0u;
+    }
+    if (n_cand == 0) continue;
+    if (cross) {
+      Acc acc{0};
+      for (size_t c = 0; c < C; ++c) {
+        acc += static_cast<Acc>(line[c]);
+        q[c + 1] = acc;
+      }
+    }
+    const Acc* lead_a = prefix_row(std::max(lead_lo, 0));
+    const Acc* lead_b = prefix_row(std::max(lead_hi, 0));
+    const Acc* lag_a = prefix_row(std::min(lag_lo, rows));
+    const Acc* lag_b = prefix_row(lag_hi);
+    for (size_t ci = 0; ci < n_cand; ++ci) {
+      const int c = cand[ci];
+      const Pixel x = line[c];
+      int k = 0;
+      if (n_lead > 0) {
+        sums[k] = static_cast<Wide>(lead_b[c] - lead_a[c]);
+        counts[k++] = n_lead;
+      }
+      if (n_lag > 0) {
+        sums[k] = static_cast<Wide>(lag_b[c] - lag_a[c]);
+        counts[k++] = n_lag;
+      }
+      if (cross) {
+        const int left_lo = std::max(0, c - g - t), left_hi = c - g;
+        const int right_lo = c + g + 1, right_hi = std::min(cols, c + g + 1 + t);
+        if (left_hi > left_lo) {
+          sums[k] = static_cast<Wide>(q[static_cast<size_t>(left_hi)] - q[static_cast<size_t>(left_lo)]);
+          counts[k++] = left_hi - left_lo;
+        }
+        if (right_hi > right_lo) {
+          sums[k] = static_cast<Wide>(q[static_cast<size_t>(right_hi)] - q[static_cast<size_t>(right_lo)]);
+          counts[k++] = right_hi - right_lo;
+        }
+      }
+      if (k == 0) continue;
+      Wide s = sums[0];
+      int n = counts[0];
+      if (cfg.method == CfarMethod::kCa) {
+        for (int i = 1; i < k; ++i) {
+          s += sums[i];
+          n += counts[i];
+        }
+      } else {
+        // Compare means s_i / n_i exactly by cross-multiplication; ties keep the first
+        // side in the fixed order (lead, lag, left, right).
+        const bool smallest = cfg.method == CfarMethod::kSoca;
+        for (int i = 1; i < k; ++i) {
+          const Wide a = sums[i] * static_cast<Wide>(n), b = s * static_cast<Wide>(counts[i]);
+          if (smallest ? a < b : a > b) {
+            s = sums[i];
+            n = counts[i];
+          }
+        }
+      }
+      const Wide xn = static_cast<Wide>(x) * static_cast<Wide>(n);
+      bool hit;
+      if (!(s > Wide{0})) {
+        hit = static_cast<double>(x) > 0.0;  // β = 0
+      } else {
+        // The rule is fl(x N / S) > α: a correctly rounded quotient of exactly scaled
+        // sums, hence exactly scale-invariant. Products decide it unless x N is within
+        // a relative 1e-12 of α S, where the quotient itself is computed.
+        const double a = alpha[static_cast<size_t>(n)];
+        const double lhs = static_cast<double>(xn), rhs = a * static_cast<double>(s);
+        if (lhs > rhs * (1.0 + 1e-12)) {
+          hit = true;
+        } else if (lhs < rhs * (1.0 - 1e-12)) {
+          hit = false;
+        } else {
+          hit = lhs / static_cast<double>(s) > a;
+        }
+      }
+      if (hit) out.push_back({r, c, static_cast<float>(x)});
+    }
+  }
+  return filter_isolated(std::move(out), cfg.min_neighbours);
+}
+
+}  // namespace
+
+double cfar_alpha(int n_train, double pfa) {
+  const double n = static_cast<double>(n_train);
+  return n * (std::pow(pfa, -1.0 / n) - 1.0);
+}
+
+std::vector<Detection> cfar_detect(const SonarPing& ping, const CfarConfig& config) {
+  const int rows = ping.rows, cols = ping.cols;
+  const size_t n = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+  if (ping.bytes_per_pixel == 1) {
+    if (ping.image.size() < n) return {};
+    return detect<uint8_t, int32_t>(ping.image.data(), rows, cols, config);
+  }
+  if (ping.image.size() < 2 * n) return {};
+  std::vector<uint16_t> wide(n);
+  for (size_t i = 0; i < n; ++i)
+    wide[i] = static_cast<uint16_t>(ping.image[2 * i] | (ping.image[2 * i + 1] << 8));
+  return detect<uint16_t, int64_t>(wide.data(), rows, cols, config);
+}
+
+std::vector<Detection> cfar_detect(const float* image, int rows, int cols, const CfarConfig& config) {
+  return detect<float, double>(image, rows, cols, config);
+}
+
+const char* to_string(CfarMethod m) {
+  switch (m) {
+    case CfarMethod::kSoca: return "soca";
+    case CfarMethod::kCa: return "ca";
+    case CfarMethod::kGoca: return "goca";
+  }
+  return "?";
+}
+
+const char* to_string(CfarWindow w) {
+  switch (w) {
+    case CfarWindow::kCross: return "cross";
+    case CfarWindow::kRange: return "range";
+  }
+  return "?";
+}
+
+}  // namespace orthosonar::perception

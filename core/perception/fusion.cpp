@@ -1,0 +1,206 @@
+#include "core/perception/fusion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/perception/assignment.hpp"
+
+namespace orthosonar::perception {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// The smallest intensity v with #(x <= v) >= q * n, by histogram (O(n), no sort).
+double percentile(const SonarPing& p, double q) {
+  const size_t n = static_cast<size_t>(p.rows) * p.cols;
+  if (n == 0) return 0.0;
+  std::vector<uint32_t> hist(p.bytes_per_pixel == 1 ? 256 : 65536, 0);
+  if (p.bytes_per_pixel == 1) {
+    for (size_t i = 0; i < n; ++i) ++hist[p.image[i]];
+  } else {
+    for (size_t i = 0; i < n; ++i) ++hist[static_cast<size_t>(p.image[2 * i] | (p.image[2 * i + 1] << 8))];
+  }
+  const double need = std::clamp(q, 0.0, 1.0) * static_cast<double>(n);
+  uint64_t acc = 0;
+  for (size_t v = 0; v < hist.size(); ++v) {
+    acc += hist[v];
+    if (static_cast<double>(acc) >= need && acc > 0) return static_cast<double>(v);
+  }
+  return static_cast<double>(hist.size() - 1);
+}
+
+// Per-pair normaliser: divide by the percentile, clamp to 1 (SPEC §4.3). A dark image
+// (percentile 0) falls back to its maximum so that structure still spans [0, 1].
+double normaliser(const SonarPing& p, double q) {
+  double v = percentile(p, q);
+  if (v <= 0.0) v = percentile(p, 1.0);
+  return v > 0.0 ? 1.0 / v : 1.0;
+}
+
+bool valid(const SonarPing& p) {
+  const size_t n = static_cast<size_t>(p.rows) * p.cols * p.bytes_per_pixel;
+  return p.rows > 0 && p.cols > 0 && p.image.size() >= n && p.bearings_rad.size() >= p.cols &&
+         p.range_resolution_m > 0.0;
+}
+
+struct Candidate {
+  int row, col;
+  long bin;         // common range bin
+  float value;      // normalised intensity of the detection
+};
+
+// Normalised patch×patch values around (row, col), zero outside the image.
+// Layout: patch[(du + h) * side + (dv + h)], du along rows (range), dv along columns.
+void patch_of(const SonarPing& p, int row, int col, int half, double inv, float* out) {
+  const int side = 2 * half + 1;
+  for (int du = -half; du <= half; ++du) {
+    for (int dv = -half; dv <= half; ++dv) {
+      const int r = row + du, c = col + dv;
+      float x = 0.0f;
+      if (r >= 0 && r < p.rows && c >= 0 && c < p.cols)
+        x = static_cast<float>(std::min(1.0, p.at(r, c) * inv));
+      out[(du + half) * side + (dv + half)] = x;
+    }
+  }
+}
+
+// rot90 of a v patch, counter-clockwise as displayed with row 0 on top (numpy's
+// np.rot90(k=1), as in the authors' Python): out(a, b) = in(b, side-1-a). In offsets:
+// rot(du, dv) = v(range offset dv, φ offset −du). So the h range axis meets the v φ axis
+// (reversed) and the h θ axis meets the v range axis. See docs/PERCEPTION.md.
+void rot90(const float* in, int side, float* out) {
+  for (int a = 0; a < side; ++a)
+    for (int b = 0; b < side; ++b) out[a * side + b] = in[b * side + (side - 1 - a)];
+}
+
+}  // namespace
+
+SE3 default_T_V_h() { return se3_from_xyz_rpy(0.35, 0.0, 0.0, 0.0, 0.0, 0.0); }
+SE3 default_T_V_v() { return se3_from_xyz_rpy(0.35, 0.0, -0.10, std::numbers::pi / 2, 0.0, 0.0); }
+
+FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfig& config) {
+  FusionResult res;
+  if (!valid(h) || !valid(v)) return res;
+  res.detections_h = cfar_detect(h, config.cfar_h);                    // step 1
+  res.detections_v = cfar_detect(v, config.cfar_v);
+  const double lim = config.overlap_deg * kDeg + 1e-9;                   // step 2
+  const double res_c = std::max(h.range_resolution_m, v.range_resolution_m);
+  const double inv_h = normaliser(h, config.normalise_percentile);       // step 3
+  const double inv_v = normaliser(v, config.normalise_percentile);
+  auto gather = [&](const SonarPing& p, const std::vector<Detection>& dets, double inv) {
+    std::vector<Candidate> out;
+    for (const Detection& d : dets) {
+      if (std::abs(p.bearings_rad[static_cast<size_t>(d.col)]) > lim) continue;
+      const long bin = std::lround(p.range_of_row(d.row) / res_c);
+      out.push_back({d.row, d.col, bin, static_cast<float>(std::min(1.0, d.intensity * inv))});
+    }
+    return out;  // row-major, so bins are non-decreasing
+  };
+  const std::vector<Candidate> ch = gather(h, res.detections_h, inv_h);
+  const std::vector<Candidate> cv = gather(v, res.detections_v, inv_v);
+  res.candidates_h = ch.size();
+  res.candidates_v = cv.size();
+
+  const int half = std::max(0, config.patch / 2);
+  const int side = 2 * half + 1, area = side * side;
+  std::vector<float> ph, pv, tmp(static_cast<size_t>(area));
+  size_t i0 = 0, j0 = 0;
+  while (i0 < ch.size() && j0 < cv.size()) {                             // step 4
+    if (ch[i0].bin < cv[j0].bin) { ++i0; continue; }
+    if (cv[j0].bin < ch[i0].bin) { ++j0; continue; }
+    const long bin = ch[i0].bin;
+    size_t i1 = i0, j1 = j0;
+    while (i1 < ch.size() && ch[i1].bin == bin) ++i1;
+    while (j1 < cv.size() && cv[j1].bin == bin) ++j1;
+    const auto nh = static_cast<Eigen::Index>(i1 - i0), nv = static_cast<Eigen::Index>(j1 - j0);
+    ++res.subproblems;
+    ph.assign(static_cast<size_t>(nh * area), 0.0f);
+    pv.assign(static_cast<size_t>(nv * area), 0.0f);
+    for (Eigen::Index i = 0; i < nh; ++i) {
+      const Candidate& c = ch[i0 + static_cast<size_t>(i)];
+      patch_of(h, c.row, c.col, half, inv_h, ph.data() + i * area);
+    }
+    for (Eigen::Index j = 0; j < nv; ++j) {
+      const Candidate& c = cv[j0 + static_cast<size_t>(j)];
+      patch_of(v, c.row, c.col, half, inv_v, tmp.data());
+      if (config.rotate_v_patch) {
+        rot90(tmp.data(), side, pv.data() + j * area);
+      } else {
+        std::copy(tmp.begin(), tmp.end(), pv.begin() + j * area);
+      }
+    }
+    Eigen::MatrixXd cost(nh, nv);                                        // step 5, Eq. 5
+    for (Eigen::Index i = 0; i < nh; ++i) {
+      const float* a = ph.data() + i * area;
+      for (Eigen::Index j = 0; j < nv; ++j) {
+        const float* b = pv.data() + j * area;
+        double s = 0.0;
+        for (int k = 0; k < area; ++k) {
+          const double d = static_cast<double>(a[k]) - static_cast<double>(b[k]);
+          s += d * d;
+        }
+        cost(i, j) = std::sqrt(s);
+      }
+    }
+    const std::vector<int> match = solve_assignment(cost);              // step 6
+    const double total = cost.sum();
+    for (Eigen::Index i = 0; i < nh; ++i) {
+      const int j = match[static_cast<size_t>(i)];
+      if (j < 0) continue;
+      ++res.matches;
+      double conf = 1.0;                                                 // step 7, Eq. 6
+      if (nv > 1) {
+        double second = std::numeric_limits<double>::infinity();
+        for (Eigen::Index k = 0; k < nv; ++k)
+          if (k != j) second = std::min(second, cost(i, k));
+        conf = total > 0.0 ? (second - cost(i, j)) / total : 0.0;
+      }
+      if (conf < config.min_confidence) {
+        ++res.culled_low_confidence;
+        continue;
+      }
+      const Candidate& a = ch[i0 + static_cast<size_t>(i)];
+      const Candidate& b = cv[j0 + static_cast<size_t>(j)];
+      const double range = 0.5 * (h.range_of_row(a.row) + v.range_of_row(b.row));  // Eq. 3
+      const double theta = h.bearings_rad[static_cast<size_t>(a.col)];
+      const double phi = v.bearings_rad[static_cast<size_t>(b.col)];
+      const Vec3 p_V = config.T_V_h * spherical_to_cartesian(range, theta, phi);    // Eq. 1
+      FusedPoint fp;
+      fp.p_V = p_V.cast<float>();
+      fp.range_m = static_cast<float>(range);
+      fp.bearing_rad = static_cast<float>(theta);
+      fp.elevation_rad = static_cast<float>(phi);
+      fp.intensity_h = a.value;
+      fp.intensity_v = b.value;
+      fp.confidence = static_cast<float>(conf);
+      res.points.push_back(fp);
+    }
+    i0 = i1;
+    j0 = j1;
+  }
+  return res;
+}
+
+std::vector<Eigen::Vector3d> points_V_at_elevation(const SonarPing& h, const std::vector<Detection>& dets,
+                                                   const SE3& T_V_h, double elevation_rad) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(dets.size());
+  for (const Detection& d : dets) {
+    if (d.col < 0 || static_cast<size_t>(d.col) >= h.bearings_rad.size()) continue;
+    out.push_back(T_V_h * spherical_to_cartesian(h.range_of_row(d.row),
+                                                 h.bearings_rad[static_cast<size_t>(d.col)], elevation_rad));
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector2d> planar_points_V(const SonarPing& h, const std::vector<Detection>& dets,
+                                             const SE3& T_V_h) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(dets.size());
+  for (const Eigen::Vector3d& p : points_V_at_elevation(h, dets, T_V_h, 0.0)) out.emplace_back(p.x(), p.y());
+  return out;
+}
+
+}  // namespace orthosonar::perception

@@ -1,0 +1,67 @@
+#pragma once
+// Orthogonal sonar fusion (SPEC §4, paper §V-B): CFAR on both images of a pair, overlap
+// gating, per-pair normalisation, per-range-bin subproblems solved exactly (Hungarian),
+// confidence per paper Eq. 6, and 3D points per paper Eq. 3 and Eq. 1.
+//
+// Geometry: h image rows = range, cols = bearing θ (positive left); v image rows = range,
+// cols = elevation φ (positive up), v being h rolled +90° about x. See docs/PERCEPTION.md
+// for the orientation of the rotated v patch (rot90) used by the cost of Eq. 5.
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+#include "core/events.hpp"
+#include "core/geometry.hpp"
+#include "core/perception/cfar.hpp"
+
+namespace orthosonar::perception {
+
+// SPEC §1 default extrinsics.
+SE3 default_T_V_h();  // translation (0.35, 0, 0)
+SE3 default_T_V_v();  // translation (0.35, 0, -0.10), roll +90°
+
+struct FusionConfig {
+  double max_pair_dt_s = 0.1;           // pairing window (used by PingPairer users)
+  double overlap_deg = 10.0;            // |θ| on h and |φ| on v must be within this
+  int patch = 3;                        // side of the square patch (odd)
+  double min_confidence = 0.05;         // Eq. 6 threshold (see docs/PERCEPTION.md)
+  double normalise_percentile = 0.99;   // per-image normaliser, clamped to 1 after
+  bool rotate_v_patch = true;           // Eq. 5 compares ν_h with rot90(ν_v); false: ν_v as is
+  SE3 T_V_h = default_T_V_h();
+  SE3 T_V_v = default_T_V_v();
+  CfarConfig cfar_h, cfar_v;
+};
+
+struct FusedPoint {
+  Eigen::Vector3f p_V = Eigen::Vector3f::Zero();  // vehicle frame, metres
+  float range_m = 0;        // Eq. 3: (R_h + R_v) / 2
+  float bearing_rad = 0;    // θ from h
+  float elevation_rad = 0;  // φ from v
+  float intensity_h = 0;    // normalised [0, 1]
+  float intensity_v = 0;    // normalised [0, 1]
+  float confidence = 0;     // Eq. 6
+};
+
+struct FusionResult {
+  std::vector<FusedPoint> points;             // ordered by (h row, h col)
+  std::vector<Detection> detections_h;        // all CFAR detections, row-major
+  std::vector<Detection> detections_v;
+  size_t candidates_h = 0;                    // detections inside the overlap
+  size_t candidates_v = 0;
+  size_t subproblems = 0;                     // range bins with candidates on both sides
+  size_t matches = 0;                         // assigned pairs before the confidence cull
+  size_t culled_low_confidence = 0;           // matches dropped by min_confidence
+};
+
+FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfig& config);
+
+// Horizontal detections as planar points in V (φ = 0; SLAM, paper §IV-A): x, y of
+// T_V_h * Eq.1(R, θ, 0).
+std::vector<Eigen::Vector2d> planar_points_V(const SonarPing& h, const std::vector<Detection>& dets,
+                                             const SE3& T_V_h);
+// Horizontal detections as 3D points in V at a given elevation φ (rad).
+std::vector<Eigen::Vector3d> points_V_at_elevation(const SonarPing& h,
+                                                   const std::vector<Detection>& dets,
+                                                   const SE3& T_V_h, double elevation_rad);
+
+}  // namespace orthosonar::perception

@@ -1,0 +1,164 @@
+// Fusion against constructions with a known answer: point targets at known (R, θ, φ)
+// rendered into both polar images on a noise background.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+
+#include "core/perception/fusion.hpp"
+#include "core/random.hpp"
+
+using namespace orthosonar;
+using namespace orthosonar::perception;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A reduced-resolution ping (200 bins x 128 beams over 130°) with a deliberately
+// non-uniform bearing table (denser at the centre, like the Oculus tables), and
+// exponential speckle of the given mean.
+SonarPing noise_ping(SonarMount mount, uint64_t seed, double mean) {
+  SonarPing p;
+  p.mount = mount;
+  p.rows = 200;
+  p.cols = 128;
+  p.range_resolution_m = 0.05;
+  for (int c = 0; c < p.cols; ++c) {
+    const double u = -1.0 + 2.0 * (c + 0.5) / p.cols;
+    p.bearings_rad.push_back(65.0 * kDeg * (u + 0.3 * u * u * u) / 1.3);
+  }
+  Rng rng(seed);
+  p.image.resize(static_cast<size_t>(p.rows) * p.cols);
+  for (auto& x : p.image) x = static_cast<uint8_t>(std::min(255.0, rng.exponential(mean)));
+  return p;
+}
+
+int nearest_col(const SonarPing& p, double angle) {
+  int best = 0;
+  for (int c = 1; c < p.cols; ++c)
+    if (std::abs(p.bearings_rad[static_cast<size_t>(c)] - angle) <
+        std::abs(p.bearings_rad[static_cast<size_t>(best)] - angle))
+      best = c;
+  return best;
+}
+
+double beam_width(const SonarPing& p, int col) {
+  const int c = std::clamp(col, 1, p.cols - 1);
+  return std::abs(p.bearings_rad[static_cast<size_t>(c)] - p.bearings_rad[static_cast<size_t>(c - 1)]);
+}
+
+// An isotropic blob: centre `peak`, the 8 neighbours `ring` (symmetric under rot90).
+void blob(SonarPing& p, double range, double angle, uint8_t peak, uint8_t ring) {
+  const int row = static_cast<int>(std::lround(range / p.range_resolution_m)) - 1;
+  const int col = nearest_col(p, angle);
+  for (int dr = -1; dr <= 1; ++dr)
+    for (int dc = -1; dc <= 1; ++dc)
+      p.image[static_cast<size_t>((row + dr) * p.cols + col + dc)] = (dr == 0 && dc == 0) ? peak : ring;
+}
+
+struct Target {
+  double range, theta, phi;
+};
+
+FusionResult render_and_fuse(const std::vector<Target>& targets, uint64_t seed,
+                             const FusionConfig& cfg = {}) {
+  SonarPing h = noise_ping(SonarMount::kHorizontal, derive_seed(seed, 1), 6.0);
+  SonarPing v = noise_ping(SonarMount::kVertical, derive_seed(seed, 2), 6.0);
+  for (const Target& t : targets) {
+    blob(h, t.range, t.theta, 230, 170);
+    blob(v, t.range, t.phi, 230, 170);
+  }
+  return fuse_pair(h, v, cfg);
+}
+
+}  // namespace
+
+TEST_CASE("A point target inside the overlap fuses within one bin and one beam", "[unit]") {
+  const SonarPing ref = noise_ping(SonarMount::kHorizontal, 0, 1.0);
+  for (const Target t : {Target{4.0, 3.0 * kDeg, -4.0 * kDeg}, Target{7.3, -8.0 * kDeg, 6.5 * kDeg},
+                         Target{2.2, 0.0, 0.0}}) {
+    const FusionResult r = render_and_fuse({t}, 11);
+    INFO("target R " << t.range << " theta " << t.theta << " phi " << t.phi);
+    REQUIRE_FALSE(r.points.empty());
+    const double bw_theta = beam_width(ref, nearest_col(ref, t.theta));
+    const double bw_phi = beam_width(ref, nearest_col(ref, t.phi));
+    for (const FusedPoint& p : r.points) {
+      CHECK(std::abs(p.range_m - t.range) <= 0.05 + 1e-6);
+      CHECK(std::abs(p.bearing_rad - t.theta) <= 1.5 * bw_theta);
+      CHECK(std::abs(p.elevation_rad - t.phi) <= 1.5 * bw_phi);
+      // Eq. 1 in the h frame, then T_V_h (translation 0.35 m along x).
+      const Vec3 want = default_T_V_h() * spherical_to_cartesian(p.range_m, p.bearing_rad, p.elevation_rad);
+      CHECK((p.p_V.cast<double>() - want).norm() < 1e-5);
+    }
+    // The centre pixels pair with each other: a point at the blob centre exists.
+    bool centre = false;
+    for (const FusedPoint& p : r.points) {
+      const Vec3 truth = default_T_V_h() * spherical_to_cartesian(t.range, t.theta, t.phi);
+      centre |= (p.p_V.cast<double>() - truth).norm() < 0.05 + t.range * 0.5 * (bw_theta + bw_phi);
+    }
+    CHECK(centre);
+  }
+}
+
+TEST_CASE("Targets outside the overlap give no point", "[unit]") {
+  // Outside in θ (h sees it at 25°, v within), outside in φ, and outside in both.
+  for (const Target t : {Target{5.0, 25.0 * kDeg, 2.0 * kDeg}, Target{5.0, -2.0 * kDeg, -20.0 * kDeg},
+                         Target{6.0, 40.0 * kDeg, 30.0 * kDeg}}) {
+    const FusionResult r = render_and_fuse({t}, 12);
+    INFO("target R " << t.range << " theta " << t.theta << " phi " << t.phi);
+    CHECK(r.points.empty());
+    CHECK_FALSE(r.detections_h.empty());  // the target itself was detected
+  }
+}
+
+TEST_CASE("Two targets at the same range are associated by patch cost", "[unit]") {
+  // Same range bin: one subproblem with two candidates per side (per pixel row).
+  // Target A is a full bright blob, target B a single bright pixel: the patches differ.
+  SonarPing h = noise_ping(SonarMount::kHorizontal, 21, 6.0);
+  SonarPing v = noise_ping(SonarMount::kVertical, 22, 6.0);
+  blob(h, 5.0, -6.0 * kDeg, 230, 200);
+  blob(v, 5.0, 5.0 * kDeg, 230, 200);
+  blob(h, 5.0, 6.0 * kDeg, 230, 0);
+  blob(v, 5.0, -5.0 * kDeg, 230, 0);
+  const FusionResult r = fuse_pair(h, v, FusionConfig{});
+  REQUIRE_FALSE(r.points.empty());
+  const double tol = 1.5 * beam_width(h, nearest_col(h, 6.0 * kDeg));
+  for (const FusedPoint& p : r.points) {
+    // θ < 0 must come with φ > 0 and vice versa (never the swapped association).
+    if (p.bearing_rad < 0) CHECK(std::abs(p.elevation_rad - 5.0 * kDeg) <= tol);
+    if (p.bearing_rad > 0) CHECK(std::abs(p.elevation_rad + 5.0 * kDeg) <= tol);
+  }
+  CHECK(r.subproblems >= 1);
+  CHECK(r.matches >= r.points.size());
+  CHECK(r.matches == r.points.size() + r.culled_low_confidence);
+}
+
+TEST_CASE("Confidence threshold culls ambiguous matches", "[unit]") {
+  FusionConfig strict;
+  strict.min_confidence = 2.0;  // above any C with alternatives (C <= 1)
+  const FusionResult r = render_and_fuse({Target{4.0, 3.0 * kDeg, -4.0 * kDeg}, Target{4.0, -3.0 * kDeg, 4.0 * kDeg}}, 31, strict);
+  CHECK(r.matches > 0);
+  for (const FusedPoint& p : r.points) CHECK(p.confidence == 1.0f);  // only the no-alternative ones
+  CHECK(r.matches == r.points.size() + r.culled_low_confidence);
+}
+
+TEST_CASE("Planar points put horizontal detections at zero elevation in V", "[unit]") {
+  SonarPing h = noise_ping(SonarMount::kHorizontal, 1, 1.0);
+  const std::vector<Detection> dets = {{99, 64, 200.0f}};
+  const auto pts = planar_points_V(h, dets, default_T_V_h());
+  REQUIRE(pts.size() == 1);
+  const double th = h.bearings_rad[64];
+  CHECK(pts[0].x() == Approx(0.35 + 5.0 * std::cos(th)));
+  CHECK(pts[0].y() == Approx(5.0 * std::sin(th)));
+  const auto p3 = points_V_at_elevation(h, dets, default_T_V_h(), 0.1);
+  REQUIRE(p3.size() == 1);
+  CHECK(p3[0].z() == Approx(5.0 * std::sin(0.1)));
+}
+
+TEST_CASE("Default extrinsics: v is h rolled +90 degrees about x", "[unit]") {
+  // A v beam at bearing φ (its own +y) points up in V.
+  const Vec3 d = default_T_V_v().linear() * spherical_to_cartesian(1.0, 0.3, 0.0);
+  CHECK(d.z() == Approx(std::sin(0.3)));
+  CHECK(std::abs(d.y()) < 1e-12);
+  CHECK(default_T_V_v().translation().z() == Approx(-0.10));
+}

@@ -1,0 +1,179 @@
+#include "core/slam/dead_reckoning.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace orthosonar::slam {
+namespace {
+
+// Readings older than this behind the newest are no longer needed for interpolation.
+constexpr int64_t kKeepNs = 10'000'000'000;
+
+template <class V>
+void prune(std::vector<std::pair<Time, V>>& series) {
+  if (series.size() < 64) return;
+  const Time cutoff = series.back().first - Time::from_ns(kKeepNs);
+  auto it = std::find_if(series.begin(), series.end(), [&](const auto& e) { return e.first >= cutoff; });
+  if (it != series.begin() && it != series.end()) {
+    --it;  // keep one reading before the cutoff as an interpolation anchor
+    series.erase(series.begin(), it);
+  }
+}
+
+// Index i with series[i].first <= t < series[i+1].first, clamped to the ends.
+template <class V>
+size_t bracket(const std::vector<std::pair<Time, V>>& series, Time t) {
+  auto it = std::upper_bound(series.begin(), series.end(), t,
+                             [](Time a, const auto& e) { return a < e.first; });
+  if (it == series.begin()) return 0;
+  return static_cast<size_t>(it - series.begin()) - 1;
+}
+
+double fraction(Time a, Time b, Time t) {
+  if (b <= a) return 0.0;
+  return std::clamp(static_cast<double>((t - a).ns()) / static_cast<double>((b - a).ns()), 0.0, 1.0);
+}
+
+}  // namespace
+
+DeadReckoning::DeadReckoning(DrConfig config) : config_(std::move(config)) {
+  xy_ = config_.initial_xy_m;
+}
+
+void DeadReckoning::add(const ImuReading& r) {
+  if (!imu_.empty() && r.stamp < imu_.back().first) return;  // out of order: ignore
+  imu_.emplace_back(r.stamp, r.q_W_V.normalized());
+  prune(imu_);
+}
+
+void DeadReckoning::add(const DepthReading& r) {
+  if (!std::isfinite(r.depth_m)) return;
+  if (!depth_.empty() && r.stamp < depth_.back().first) return;
+  if (depth_.empty()) {
+    // States made before the first depth reading take it (the vehicle works at a fixed
+    // depth; leaving them at z = 0 would put a metres-high step into the trajectory).
+    for (State& s : states_) s.T_W_V.translation().z() = -r.depth_m;
+  }
+  depth_.emplace_back(r.stamp, -r.depth_m);
+  prune(depth_);
+}
+
+Quat DeadReckoning::orientation_at(Time t) const {
+  const size_t i = bracket(imu_, t);
+  if (i + 1 >= imu_.size() || t <= imu_[i].first) return imu_[i].second;
+  return imu_[i].second.slerp(fraction(imu_[i].first, imu_[i + 1].first, t), imu_[i + 1].second);
+}
+
+double DeadReckoning::z_at(Time t) const {
+  if (depth_.empty()) return 0.0;
+  const size_t i = bracket(depth_, t);
+  if (i + 1 >= depth_.size() || t <= depth_[i].first) return depth_[i].second;
+  const double s = fraction(depth_[i].first, depth_[i + 1].first, t);
+  return (1.0 - s) * depth_[i].second + s * depth_[i + 1].second;
+}
+
+void DeadReckoning::add(const DvlReading& r) {
+  if (imu_.empty()) {
+    ++counts_.dvl_before_imu;
+    return;
+  }
+  if (!states_.empty() && r.stamp <= states_.back().stamp) return;  // out of order / duplicate
+  const Vec3& v = r.velocity_V_mps;
+  bool good = false;
+  if (!r.valid) {
+    ++counts_.dvl_invalid;
+  } else if (!v.allFinite()) {
+    ++counts_.dvl_nonfinite;
+  } else if (v.norm() > config_.max_speed_mps) {
+    ++counts_.dvl_too_fast;
+  } else {
+    ++counts_.dvl_ok;
+    good = true;
+  }
+  const Quat q = orientation_at(r.stamp);
+  const Time hold = Time::from_seconds(config_.hold_s);
+
+  if (states_.empty()) {
+    // The first state starts the integration; velocity from here on.
+    v_W_prev_ = good ? Vec3(q * v) : Vec3::Zero();
+    if (good) {
+      v_V_good_ = v;
+      last_good_ = r.stamp;
+      have_good_ = true;
+    }
+    SE3 T = SE3::Identity();
+    T.linear() = q.toRotationMatrix();
+    T.translation() = Vec3(xy_.x(), xy_.y(), z_at(r.stamp));
+    states_.push_back({r.stamp, T});
+    return;
+  }
+
+  const Time t0 = states_.back().stamp;
+  // Velocity in W at this stamp: the reading, the held one (rotated by the current
+  // orientation), or zero once the hold expired.
+  Vec3 v_W_now = Vec3::Zero();
+  const bool hold_valid = have_good_ && r.stamp - last_good_ <= hold;
+  if (good) {
+    v_W_now = q * v;
+  } else if (hold_valid) {
+    v_W_now = q * v_V_good_;
+  }
+  Vec2 dxy = Vec2::Zero();
+  const bool hold_expires_inside = have_good_ && t0 - last_good_ < hold && r.stamp - last_good_ > hold;
+  if (hold_expires_inside) {
+    // Held velocity until the hold ends, then nothing moves until this reading.
+    dxy = v_W_prev_.head<2>() * (last_good_ + hold - t0).seconds();
+  } else if (have_good_ && t0 - last_good_ >= hold) {
+    dxy = Vec2::Zero();  // still in (or leaving) a dropout: zero velocity over the interval
+  } else {
+    dxy = 0.5 * (v_W_prev_.head<2>() + v_W_now.head<2>()) * (r.stamp - t0).seconds();
+  }
+  xy_ += dxy;
+
+  if (good) {
+    if (in_dropout_) {
+      counts_.gaps.back().second = r.stamp;
+      in_dropout_ = false;
+    } else if (have_good_ && r.stamp - last_good_ > hold) {
+      // A silence (no readings at all) longer than the hold is a dropout too.
+      ++counts_.dropouts;
+      counts_.gaps.emplace_back(last_good_, r.stamp);
+    }
+    v_V_good_ = v;
+    last_good_ = r.stamp;
+    have_good_ = true;
+  } else if (have_good_ && !in_dropout_ && r.stamp - last_good_ > hold) {
+    in_dropout_ = true;
+    ++counts_.dropouts;
+    counts_.gaps.emplace_back(last_good_, r.stamp);
+  } else if (in_dropout_) {
+    counts_.gaps.back().second = r.stamp;
+  }
+  v_W_prev_ = v_W_now;
+
+  SE3 T = SE3::Identity();
+  T.linear() = q.toRotationMatrix();
+  T.translation() = Vec3(xy_.x(), xy_.y(), z_at(r.stamp));
+  states_.push_back({r.stamp, T});
+}
+
+Result<SE3> DeadReckoning::pose_at(Time t) const {
+  if (states_.empty()) return Error{"dead reckoning: no state yet"};
+  if (t < states_.front().stamp || t > states_.back().stamp) {
+    return Error{"dead reckoning: stamp " + std::to_string(t.ns()) + " ns outside [" +
+                 std::to_string(states_.front().stamp.ns()) + ", " +
+                 std::to_string(states_.back().stamp.ns()) + "] ns"};
+  }
+  auto it = std::upper_bound(states_.begin(), states_.end(), t,
+                             [](Time a, const State& s) { return a < s.stamp; });
+  const size_t i = static_cast<size_t>(it - states_.begin()) - 1;
+  if (i + 1 >= states_.size() || t == states_[i].stamp) return states_[i].T_W_V;
+  return interpolate(states_[i].T_W_V, states_[i + 1].T_W_V,
+                     fraction(states_[i].stamp, states_[i + 1].stamp, t));
+}
+
+Time DeadReckoning::first_time() const { return states_.empty() ? Time() : states_.front().stamp; }
+Time DeadReckoning::last_time() const { return states_.empty() ? Time() : states_.back().stamp; }
+
+}  // namespace orthosonar::slam

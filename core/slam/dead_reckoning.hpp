@@ -1,0 +1,79 @@
+#pragma once
+// Dead reckoning (SPEC §2): DVL body velocity rotated into W by the IMU orientation at the
+// DVL stamp, integrated trapezoidally in time; z from depth (z = -depth); roll, pitch and
+// yaw from the IMU. DVL faults (invalid, non-finite, faster than max_speed_mps) are
+// rejected and counted; the last good velocity is held for at most hold_s, then the
+// vehicle is assumed still and the dropout gap is reported.
+//
+// Feed events in stamp order (SPEC §9). A DVL reading before the first IMU reading cannot
+// be rotated into W and is skipped (counted in dvl_before_imu). Not thread-safe.
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "core/events.hpp"
+#include "core/geometry.hpp"
+#include "core/result.hpp"
+#include "core/time.hpp"
+
+namespace orthosonar::slam {
+
+struct DrConfig {
+  double max_speed_mps = 2.0;    // a DVL speed above this is a fault
+  double hold_s = 2.0;           // hold the last good velocity this long, then assume zero
+  Vec2 initial_xy_m = Vec2::Zero();  // W position of the first DR state
+};
+
+struct DrCounts {
+  size_t dvl_ok = 0;
+  size_t dvl_invalid = 0;     // flagged invalid by the device
+  size_t dvl_nonfinite = 0;   // NaN / inf component
+  size_t dvl_too_fast = 0;    // |v| > max_speed_mps
+  size_t dvl_before_imu = 0;  // skipped: no orientation known yet
+  size_t dropouts = 0;        // number of gaps longer than hold_s without a good reading
+  // Each dropout: (last good DVL stamp, next good DVL stamp, or the last DVL stamp seen
+  // while the dropout is still open).
+  std::vector<std::pair<Time, Time>> gaps;
+};
+
+class DeadReckoning {
+ public:
+  explicit DeadReckoning(DrConfig config = {});
+
+  void add(const ImuReading& r);
+  void add(const DvlReading& r);
+  void add(const DepthReading& r);
+
+  // T_W_V at t: linear interpolation of translation and slerp of rotation between the
+  // neighbouring DR states (one per DVL reading). An error outside [first_time, last_time].
+  Result<SE3> pose_at(Time t) const;
+
+  bool empty() const { return states_.empty(); }
+  Time first_time() const;  // Time() when empty
+  Time last_time() const;
+  const DrCounts& counts() const { return counts_; }
+  const DrConfig& config() const { return config_; }
+
+ private:
+  struct State {
+    Time stamp;
+    SE3 T_W_V;
+  };
+  Quat orientation_at(Time t) const;  // IMU slerp, held at the ends
+  double z_at(Time t) const;          // -depth, linear, held at the ends; 0 before any depth
+                                      // (states made then are fixed by the first reading)
+
+  DrConfig config_;
+  DrCounts counts_;
+  std::vector<State> states_;
+  std::vector<std::pair<Time, Quat>> imu_;      // recent IMU readings (pruned)
+  std::vector<std::pair<Time, double>> depth_;  // recent depth readings (pruned)
+  Vec2 xy_ = Vec2::Zero();
+  Vec3 v_W_prev_ = Vec3::Zero();   // W velocity used at the previous state
+  Vec3 v_V_good_ = Vec3::Zero();   // last good body velocity
+  Time last_good_;
+  bool have_good_ = false;
+  bool in_dropout_ = false;
+};
+
+}  // namespace orthosonar::slam

@@ -1,0 +1,113 @@
+#include "core/slam/dead_reckoning.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+using namespace orthosonar;
+using namespace orthosonar::slam;
+
+namespace {
+
+Quat yaw_quat(double yaw) { return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ())); }
+
+// Feeds IMU at 100 Hz, DVL and depth at 5 Hz for [0, duration] with the given yaw(t) and
+// body velocity; `dvl` may alter each DVL reading (faults, outages: return false to drop).
+template <class YawFn, class DvlFn>
+DeadReckoning run(double duration_s, YawFn yaw, const Vec3& v_V, DvlFn dvl, DrConfig cfg = {}) {
+  DeadReckoning dr(cfg);
+  const int64_t imu_ns = 10'000'000, dvl_every = 20;
+  for (int64_t k = 0; k * imu_ns <= static_cast<int64_t>(duration_s * 1e9); ++k) {
+    const Time t = Time::from_ns(k * imu_ns);
+    dr.add(ImuReading{t, yaw_quat(yaw(t.seconds())), Vec3::Zero(), Vec3::Zero()});
+    if (k % dvl_every == 0) {
+      dr.add(DepthReading{t, 3.0});
+      DvlReading r{t, v_V, true, 5.0};
+      if (dvl(r)) dr.add(r);
+    }
+  }
+  return dr;
+}
+
+}  // namespace
+
+TEST_CASE("DR integrates constant velocity along a fixed heading", "[unit]") {
+  const double yaw = 30.0 * std::numbers::pi / 180.0;
+  const auto dr = run(10.0, [&](double) { return yaw; }, Vec3(1.0, 0.0, 0.0), [](DvlReading&) { return true; });
+  const auto p = dr.pose_at(Time::from_seconds(5.0));
+  REQUIRE(p.ok());
+  CHECK(p->translation().x() == Approx(5.0 * std::cos(yaw)).margin(1e-9));
+  CHECK(p->translation().y() == Approx(5.0 * std::sin(yaw)).margin(1e-9));
+  CHECK(p->translation().z() == Approx(-3.0));
+  CHECK(yaw_of(Quat(p->rotation())) == Approx(yaw));
+  // Interpolated between DVL states (5 Hz): linear in translation.
+  const auto mid = dr.pose_at(Time::from_ms(5100));
+  REQUIRE(mid.ok());
+  CHECK(mid->translation().x() == Approx(5.1 * std::cos(yaw)).margin(1e-9));
+  CHECK(dr.counts().dvl_ok == 51);
+}
+
+TEST_CASE("DR follows a constant-rate turn within a centimetre", "[unit]") {
+  const double w = 0.1, v = 0.5;  // rad/s, m/s: a circle of radius 5 m
+  const auto dr = run(30.0, [&](double t) { return w * t; }, Vec3(v, 0.0, 0.0), [](DvlReading&) { return true; });
+  for (double t : {10.0, 20.0, 30.0}) {
+    const auto p = dr.pose_at(Time::from_seconds(t));
+    REQUIRE(p.ok());
+    CHECK(p->translation().x() == Approx(v / w * std::sin(w * t)).margin(0.01));
+    CHECK(p->translation().y() == Approx(v / w * (1.0 - std::cos(w * t))).margin(0.01));
+  }
+}
+
+TEST_CASE("DR pose_at refuses stamps outside the known span", "[unit]") {
+  const auto dr = run(2.0, [](double) { return 0.0; }, Vec3(0.5, 0, 0), [](DvlReading&) { return true; });
+  CHECK(dr.pose_at(Time::from_ms(0)).ok());
+  CHECK(dr.pose_at(Time::from_ms(2000)).ok());
+  CHECK_FALSE(dr.pose_at(Time::from_ms(2001)).ok());
+  CHECK_FALSE(dr.pose_at(Time::from_ms(-1)).ok());
+  CHECK_FALSE(DeadReckoning().pose_at(Time()).ok());
+}
+
+TEST_CASE("DR counts DVL faults and holds the last good velocity through them", "[unit]") {
+  int n = 0;
+  const auto dr = run(10.0, [](double) { return 0.0; }, Vec3(1.0, 0.0, 0.0), [&](DvlReading& r) {
+    ++n;
+    if (n % 10 == 3) r.valid = false;
+    if (n % 10 == 5) r.velocity_V_mps.x() = std::numeric_limits<double>::quiet_NaN();
+    if (n % 10 == 7) r.velocity_V_mps.x() = 2.5;
+    return true;
+  });
+  CHECK(dr.counts().dvl_invalid == 5);
+  CHECK(dr.counts().dvl_nonfinite == 5);
+  CHECK(dr.counts().dvl_too_fast == 5);
+  CHECK(dr.counts().dvl_ok == 36);
+  CHECK(dr.counts().dropouts == 0);
+  // Single faults are bridged by the held velocity: position is exact.
+  CHECK(dr.pose_at(Time::from_s(10))->translation().x() == Approx(10.0).margin(1e-9));
+}
+
+TEST_CASE("DR bridges a 20 s DVL outage with a bounded hold and reports the gap", "[unit]") {
+  // No DVL readings at all between 10 s and 30 s.
+  const auto dr = run(40.0, [](double) { return 0.0; }, Vec3(0.5, 0.0, 0.0), [](DvlReading& r) {
+    return r.stamp <= Time::from_s(10) || r.stamp > Time::from_s(30);
+  });
+  REQUIRE(dr.counts().dropouts == 1);
+  CHECK(dr.counts().gaps[0].first == Time::from_s(10));
+  CHECK(dr.counts().gaps[0].second == Time::from_ms(30200));
+  // 10 s moving, 2 s held, then still until 30.2 s, then 9.8 s moving.
+  CHECK(dr.pose_at(Time::from_s(40))->translation().x() == Approx(0.5 * (10.0 + 2.0 + 9.8)).margin(1e-9));
+}
+
+TEST_CASE("DR reports a dropout of invalid readings and closes it at the next good one", "[unit]") {
+  const auto dr = run(20.0, [](double) { return 0.0; }, Vec3(0.5, 0.0, 0.0), [](DvlReading& r) {
+    if (r.stamp > Time::from_s(5) && r.stamp < Time::from_s(10)) r.valid = false;
+    return true;
+  });
+  REQUIRE(dr.counts().dropouts == 1);
+  CHECK(dr.counts().gaps[0].first == Time::from_s(5));
+  CHECK(dr.counts().gaps[0].second == Time::from_s(10));
+  CHECK(dr.counts().dvl_invalid == 24);
+  // Moving 5 s, held for 2 s (trapezoid ends at the last held state), zero, moving 10 s.
+  const double x = dr.pose_at(Time::from_s(20))->translation().x();
+  CHECK(x == Approx(0.5 * (5.0 + 2.0 + 10.0)).margin(1e-9));
+}

@@ -1,0 +1,198 @@
+#include "core/slam/icp.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace orthosonar::slam {
+
+Grid2d::Grid2d(const std::vector<Eigen::Vector2d>& points, double cell_m)
+    : points_(&points), cell_m_(cell_m) {
+  entries_.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    entries_.push_back({static_cast<long long>(std::floor(points[i].x() / cell_m)),
+                        static_cast<long long>(std::floor(points[i].y() / cell_m)),
+                        static_cast<long>(i)});
+  }
+  std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
+    if (a.cx != b.cx) return a.cx < b.cx;
+    if (a.cy != b.cy) return a.cy < b.cy;
+    return a.index < b.index;
+  });
+}
+
+template <class F>
+void Grid2d::for_cell(long long cx, long long cy, F&& f) const {
+  auto it = std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(cx, cy),
+                             [](const Entry& e, const std::pair<long long, long long>& k) {
+                               return e.cx != k.first ? e.cx < k.first : e.cy < k.second;
+                             });
+  for (; it != entries_.end() && it->cx == cx && it->cy == cy; ++it) f(it->index);
+}
+
+long Grid2d::nearest(const Eigen::Vector2d& q, double max_dist, double* dist2) const {
+  const auto r = static_cast<long long>(std::ceil(max_dist / cell_m_));
+  const auto qx = static_cast<long long>(std::floor(q.x() / cell_m_));
+  const auto qy = static_cast<long long>(std::floor(q.y() / cell_m_));
+  long best = -1;
+  double best_d2 = max_dist * max_dist;
+  for (long long cx = qx - r; cx <= qx + r; ++cx) {
+    for (long long cy = qy - r; cy <= qy + r; ++cy) {
+      for_cell(cx, cy, [&](long i) {
+        const double d2 = ((*points_)[static_cast<size_t>(i)] - q).squaredNorm();
+        if (d2 < best_d2 || (d2 == best_d2 && best >= 0 && i < best) ||
+            (d2 == best_d2 && best < 0)) {
+          best_d2 = d2;
+          best = i;
+        }
+      });
+    }
+  }
+  if (dist2 != nullptr) *dist2 = best_d2;
+  return best;
+}
+
+size_t Grid2d::count_within(const Eigen::Vector2d& q, double radius) const {
+  const auto r = static_cast<long long>(std::ceil(radius / cell_m_));
+  const auto qx = static_cast<long long>(std::floor(q.x() / cell_m_));
+  const auto qy = static_cast<long long>(std::floor(q.y() / cell_m_));
+  const double r2 = radius * radius;
+  size_t n = 0;
+  for (long long cx = qx - r; cx <= qx + r; ++cx) {
+    for (long long cy = qy - r; cy <= qy + r; ++cy) {
+      for_cell(cx, cy, [&](long i) {
+        if (((*points_)[static_cast<size_t>(i)] - q).squaredNorm() <= r2) ++n;
+      });
+    }
+  }
+  return n;
+}
+
+namespace {
+
+constexpr double kRotationScaleM = 10.0;   // metres per radian when comparing steps
+constexpr double kCosAccelerate = 0.985;   // successive steps within 10 degrees
+constexpr double kMaxAccelerate = 25.0;    // at most 25 steps ahead
+
+struct Match {
+  double d2;
+  size_t source;
+  size_t target;
+};
+
+// Closed-form 2D rigid alignment (Kabsch/Umeyama without scale): T with T * s ≈ t.
+SE2 align(const std::vector<Eigen::Vector2d>& src, const std::vector<Eigen::Vector2d>& tgt,
+          const std::vector<Match>& m) {
+  Eigen::Vector2d ms = Eigen::Vector2d::Zero(), mt = Eigen::Vector2d::Zero();
+  for (const Match& c : m) {
+    ms += src[c.source];
+    mt += tgt[c.target];
+  }
+  const double n = static_cast<double>(m.size());
+  ms /= n;
+  mt /= n;
+  double sxx = 0.0, sxy = 0.0;  // sum of dot and cross products of centred pairs
+  for (const Match& c : m) {
+    const Eigen::Vector2d a = src[c.source] - ms, b = tgt[c.target] - mt;
+    sxx += a.x() * b.x() + a.y() * b.y();
+    sxy += a.x() * b.y() - a.y() * b.x();
+  }
+  const double theta = std::atan2(sxy, sxx);
+  SE2 T{0.0, 0.0, theta};
+  const Eigen::Vector2d t = mt - T.rotation() * ms;
+  T.x = t.x();
+  T.y = t.y();
+  return T;
+}
+
+}  // namespace
+
+IcpResult icp_2d(const std::vector<Eigen::Vector2d>& source,
+                 const std::vector<Eigen::Vector2d>& target, const SE2& initial,
+                 const IcpConfig& config) {
+  IcpResult result;
+  result.T_target_source = initial;
+  if (source.empty() || target.empty()) return result;
+  const Grid2d grid(target, config.max_correspondence_m);
+  const auto keep_max = static_cast<size_t>(
+      std::floor(config.trim_fraction * static_cast<double>(source.size())));
+  std::vector<Match> matches;
+  matches.reserve(source.size());
+  SE2 T = initial;
+  Eigen::Vector3d prev_step = Eigen::Vector3d::Zero();
+  std::vector<double> d2s;
+  const auto trimmed_cost = [&](const SE2& X) {
+    d2s.clear();
+    for (const auto& p : source) {
+      double d2 = 0.0;
+      if (grid.nearest(X * p, config.max_correspondence_m, &d2) >= 0) d2s.push_back(d2);
+    }
+    std::sort(d2s.begin(), d2s.end());
+    const double cap = config.max_correspondence_m * config.max_correspondence_m;
+    double sum = 0.0;  // a source point without a match costs the full gate
+    for (size_t i = 0; i < keep_max; ++i) sum += i < d2s.size() ? d2s[i] : cap;
+    return sum;
+  };
+  for (int it = 0; it < config.max_iterations; ++it) {
+    matches.clear();
+    for (size_t i = 0; i < source.size(); ++i) {
+      double d2 = 0.0;
+      const long j = grid.nearest(T * source[i], config.max_correspondence_m, &d2);
+      if (j >= 0) matches.push_back({d2, i, static_cast<size_t>(j)});
+    }
+    // Trimmed ICP: keep the closest fraction of the source's points.
+    std::sort(matches.begin(), matches.end(), [](const Match& a, const Match& b) {
+      return a.d2 != b.d2 ? a.d2 < b.d2 : a.source < b.source;
+    });
+    size_t keep = std::min(keep_max, matches.size());
+    const double floor2 = config.trim_floor_m * config.trim_floor_m;
+    while (keep < matches.size() && matches[keep].d2 <= floor2) ++keep;
+    matches.resize(keep);
+    result.iterations = it + 1;
+    if (matches.size() < std::max<size_t>(config.min_correspondences, 3)) {
+      result.converged = false;
+      result.inliers = matches.size();
+      result.T_target_source = T;
+      return result;
+    }
+    // Solve for the increment that maps the currently transformed source onto the target.
+    std::vector<Eigen::Vector2d> moved(source.size());
+    for (const Match& m : matches) moved[m.source] = T * source[m.source];
+    const SE2 dT = align(moved, target, matches);
+    const SE2 before = T;
+    T = dT * T;
+    // Besl & McKay's accelerated ICP: when successive steps in (x, y, L·θ) point the same
+    // way and shrink, jump ahead by the geometric tail of the sequence (capped). Plain
+    // point-to-point ICP crawls on sparse sonar clouds and stops near its initial guess.
+    if (config.accelerate) {
+      const Eigen::Vector3d step(T.x - before.x, T.y - before.y,
+                                 kRotationScaleM * wrap_angle(T.theta - before.theta));
+      const double n = step.norm(), np = prev_step.norm();
+      if (n > 0.0 && np > 0.0 && n < np && step.dot(prev_step) > kCosAccelerate * n * np) {
+        const double rho = n / np;
+        const double ahead = std::min(rho / (1.0 - rho), kMaxAccelerate);
+        const SE2 jump{T.x + ahead * step.x(), T.y + ahead * step.y(),
+                       wrap_angle(T.theta + ahead * step.z() / kRotationScaleM)};
+        // Only when it lowers the trimmed cost (the jump must not throw the fit away).
+        if (trimmed_cost(jump) < trimmed_cost(T)) T = jump;
+        prev_step.setZero();  // two plain steps before the next jump
+      } else {
+        prev_step = step;
+      }
+    }
+    double sum = 0.0;
+    for (const Match& m : matches) sum += (T * source[m.source] - target[m.target]).squaredNorm();
+    result.inliers = matches.size();
+    result.rmse = std::sqrt(sum / static_cast<double>(matches.size()));
+    if (std::hypot(dT.x, dT.y) < config.converged_translation_m &&
+        std::abs(dT.theta) < config.converged_rotation_rad) {
+      result.converged = true;
+      break;
+    }
+  }
+  result.T_target_source = T;
+  return result;
+}
+
+}  // namespace orthosonar::slam

@@ -1,0 +1,73 @@
+#include "core/slam/icp.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "core/random.hpp"
+#include "core/slam/planar_cloud.hpp"
+#include "core/slam/synthetic.hpp"
+
+using namespace orthosonar;
+using namespace orthosonar::slam;
+
+TEST_CASE("ICP recovers a known SE2 transform of a scan", "[unit]") {
+  const auto world = make_basin_world(7);
+  const auto raw = synthetic_scan_V(world, {10.0, -20.0, 0.3}, {}, 1, 0);
+  std::vector<Eigen::Vector2d> target;  // every 6th point: a sparse sample of the scan
+  for (size_t i = 0; i < raw.size(); i += 6) target.push_back(raw[i]);
+  const SE2 T{0.8, -0.5, 0.08};
+  std::vector<Eigen::Vector2d> source;
+  for (const auto& p : target) source.push_back(T.inverse() * p);  // T * source = target
+  const auto r = icp_2d(source, target, SE2::identity(), {});
+  REQUIRE(r.converged);
+  CHECK(r.T_target_source.x == Approx(T.x).margin(1e-3));
+  CHECK(r.T_target_source.y == Approx(T.y).margin(1e-3));
+  CHECK(r.T_target_source.theta == Approx(T.theta).margin(1e-4));
+  CHECK(r.rmse < 1e-6);
+}
+
+TEST_CASE("ICP reports failure without enough correspondences", "[unit]") {
+  std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}}, b{{100, 100}};
+  const auto r = icp_2d(a, b, SE2::identity(), {});
+  CHECK_FALSE(r.converged);
+  CHECK(r.inliers == 0);
+  CHECK_FALSE(icp_2d({}, b, SE2::identity(), {}).converged);
+}
+
+TEST_CASE("Grid nearest neighbour agrees with brute force", "[unit]") {
+  Rng rng(3);
+  std::vector<Eigen::Vector2d> pts;
+  for (int i = 0; i < 500; ++i) pts.emplace_back(rng.uniform(-10, 10), rng.uniform(-10, 10));
+  const Grid2d grid(pts, 1.5);
+  for (int q = 0; q < 200; ++q) {
+    const Eigen::Vector2d x(rng.uniform(-12, 12), rng.uniform(-12, 12));
+    long best = -1;
+    double bd = 1.5 * 1.5;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double d = (pts[i] - x).squaredNorm();
+      if (d < bd) {
+        bd = d;
+        best = static_cast<long>(i);
+      }
+    }
+    CHECK(grid.nearest(x, 1.5) == best);
+  }
+}
+
+TEST_CASE("Voxel downsample keeps one centroid per voxel in sorted order", "[unit]") {
+  const std::vector<Eigen::Vector2d> pts{{0.1, 0.1}, {0.3, 0.2}, {-0.2, 0.1}, {0.7, 0.1}, {0.2, 0.4}};
+  const auto out = voxel_downsample(pts, 0.5);
+  REQUIRE(out.size() == 3);
+  CHECK(out[0].isApprox(Eigen::Vector2d(-0.2, 0.1)));
+  CHECK(out[1].isApprox(Eigen::Vector2d(0.2, 0.7 / 3.0)));
+  CHECK(out[2].isApprox(Eigen::Vector2d(0.7, 0.1)));
+}
+
+TEST_CASE("Radius outlier removal drops isolated points", "[unit]") {
+  std::vector<Eigen::Vector2d> pts;
+  for (int i = 0; i < 6; ++i) pts.emplace_back(0.1 * i, 0.0);  // a tight cluster of 6
+  pts.emplace_back(5.0, 5.0);                                   // isolated
+  const auto out = remove_radius_outliers(pts, 1.0, 5);
+  CHECK(out.size() == 6);
+  CHECK(remove_radius_outliers(pts, 1.0, 6).empty());
+}

@@ -1,0 +1,229 @@
+#include "core/slam/keyframe_slam.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace orthosonar::slam {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+Eigen::Matrix3d covariance(const Eigen::Vector3d& sigma) {
+  return sigma.cwiseProduct(sigma).asDiagonal();
+}
+
+}  // namespace
+
+const char* factor_kind_name(FactorKind k) {
+  switch (k) {
+    case FactorKind::kPrior: return "prior";
+    case FactorKind::kOdometryDr: return "odometry_dr";
+    case FactorKind::kSequentialIcp: return "ssm_icp";
+    case FactorKind::kLoopClosure: return "loop_closure";
+  }
+  return "unknown";
+}
+
+KeyframeSlam::KeyframeSlam(SlamConfig config) : config_(std::move(config)) {}
+
+bool KeyframeSlam::should_add(const SE3& T_W_V_dr) const {
+  if (keyframes_.empty()) return true;
+  const SE2 last = se2_from_se3(keyframes_.back().T_W_V_dr);
+  const SE2 now = se2_from_se3(T_W_V_dr);
+  const double dist = std::hypot(now.x - last.x, now.y - last.y);
+  const double dyaw = std::abs(wrap_angle(now.theta - last.theta));
+  return dist >= config_.kf_distance_m || dyaw >= config_.kf_rotation_deg * kDegToRad;
+}
+
+size_t KeyframeSlam::accepted_loop_closures() const {
+  return static_cast<size_t>(std::count_if(factors_.begin(), factors_.end(), [](const Factor& f) {
+    return f.kind == FactorKind::kLoopClosure && f.accepted;
+  }));
+}
+
+int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
+                               std::vector<Eigen::Vector2d> planar_points_V) {
+  const int id = static_cast<int>(keyframes_.size());
+  Keyframe kf;
+  kf.id = id;
+  kf.stamp = stamp;
+  kf.T_W_V_dr = T_W_V_dr;
+  kf.T_W_V_slam = T_W_V_dr;
+  kf.cloud_V = prepare_planar_cloud(
+      planar_points_V, {config_.voxel_m, config_.outlier_radius_m, config_.outlier_min_neighbours});
+  keyframes_.push_back(std::move(kf));
+  if (id == 0) {
+    const SE2 prior = se2_from_se3(T_W_V_dr);
+    poses_.push_back(prior);
+    sequential_factor_.push_back(-1);
+    factors_.push_back({FactorKind::kPrior, 0, 0, prior, config_.sigma_prior, true, "first pose"});
+  } else {
+    sequential_match(id);
+    loop_closure(id);
+  }
+  solve();
+  return id;
+}
+
+std::vector<Eigen::Vector2d> KeyframeSlam::aggregate(const std::vector<int>& ids, int frame) const {
+  std::vector<Eigen::Vector2d> out;
+  const SE2 T_frame_W = poses_[static_cast<size_t>(frame)].inverse();
+  for (int k : ids) {
+    const SE2 T_frame_k = T_frame_W * poses_[static_cast<size_t>(k)];
+    for (const auto& p : keyframes_[static_cast<size_t>(k)].cloud_V) out.push_back(T_frame_k * p);
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector2d> KeyframeSlam::seen_from(const std::vector<Eigen::Vector2d>& cloud_V,
+                                                     const SE2& T_W_V,
+                                                     const std::vector<int>& ids) const {
+  std::vector<SE2> T_k_V;
+  for (int k : ids) T_k_V.push_back(poses_[static_cast<size_t>(k)].inverse() * T_W_V);
+  std::vector<Eigen::Vector2d> out;
+  for (const auto& p : cloud_V) {
+    for (const SE2& T : T_k_V) {
+      if (in_sonar_view(T * p, gate_range_m(), gate_fov_deg(), config_.sonar_x_m)) {
+        out.push_back(p);
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+void KeyframeSlam::sequential_match(int id) {
+  const auto& cur = keyframes_[static_cast<size_t>(id)];
+  const int prev = id - 1;
+  const SE2 T_dr = se2_from_se3(keyframes_[static_cast<size_t>(prev)].T_W_V_dr).inverse() *
+                   se2_from_se3(cur.T_W_V_dr);
+  std::vector<int> targets;
+  for (int k = std::max(0, id - config_.ssm_target_frames); k < id; ++k) targets.push_back(k);
+  // Both clouds cropped to what the other side could have seen (initial guess = DR), so
+  // structure seen by only one of them does not pull the fit.
+  const auto target = gate_to_sonar_view(aggregate(targets, prev), T_dr.inverse(),
+                                         gate_range_m(), gate_fov_deg(), config_.sonar_x_m);
+  const auto source = seen_from(cur.cloud_V, poses_[static_cast<size_t>(prev)] * T_dr, targets);
+  Factor f{FactorKind::kOdometryDr, prev, id, T_dr, config_.sigma_odometry, true, "dead reckoning"};
+  if (source.size() < config_.ssm_min_points || target.size() < config_.ssm_min_points) {
+    f.reason = "dead reckoning: too few points for icp";
+  } else {
+    const IcpResult icp = icp_2d(source, target, T_dr, config_.icp);
+    const SE2 diff = T_dr.inverse() * icp.T_target_source;
+    const bool close = std::hypot(diff.x, diff.y) <= config_.ssm_max_translation_m &&
+                       std::abs(diff.theta) <= config_.ssm_max_rotation_deg * kDegToRad;
+    if (icp.converged && close) {
+      f = {FactorKind::kSequentialIcp, prev, id, icp.T_target_source, config_.sigma_icp, true,
+           "icp converged"};
+    } else {
+      // Keep the failed match on record, then fall back to DR so the graph never breaks.
+      factors_.push_back({FactorKind::kSequentialIcp, prev, id, icp.T_target_source,
+                          config_.sigma_icp, false,
+                          icp.converged ? "icp disagrees with dead reckoning" : "icp not converged"});
+      f.reason = "dead reckoning: icp rejected";
+    }
+  }
+  poses_.push_back(poses_[static_cast<size_t>(prev)] * f.T_from_to);
+  sequential_factor_.push_back(static_cast<int>(factors_.size()));
+  factors_.push_back(std::move(f));
+}
+
+void KeyframeSlam::loop_closure(int id) {
+  const int newest_old = id - config_.nssm_min_separation;
+  if (newest_old < 0) return;
+  const auto& cur = keyframes_[static_cast<size_t>(id)];
+  if (cur.cloud_V.size() < config_.nssm_min_points) return;
+  const SE2& T_W_new = poses_[static_cast<size_t>(id)];
+  const Eigen::Vector2d sonar_W = T_W_new * Eigen::Vector2d(config_.sonar_x_m, 0.0);
+  // Candidate keyframes: old enough and within sonar range, the nearest few (ties by id);
+  // the anchor is the nearest.
+  std::vector<std::pair<double, int>> near;
+  for (int k = 0; k <= newest_old; ++k) {
+    const double d = (poses_[static_cast<size_t>(k)].translation() - sonar_W).norm();
+    if (d <= config_.nssm_range_m) near.emplace_back(d, k);
+  }
+  std::sort(near.begin(), near.end());
+  if (near.size() > static_cast<size_t>(std::max(config_.nssm_max_target_frames, 1))) {
+    near.resize(static_cast<size_t>(std::max(config_.nssm_max_target_frames, 1)));
+  }
+  const int anchor = near.empty() ? -1 : near.front().second;
+  std::vector<int> ids;
+  for (const auto& [d, k] : near) ids.push_back(k);
+  std::sort(ids.begin(), ids.end());
+  if (anchor < 0) return;
+  // Field-of-view gating: only target points the new keyframe's sonar could have seen.
+  const SE2 T_anchor_new = poses_[static_cast<size_t>(anchor)].inverse() * T_W_new;
+  const SE2 T_new_anchor = T_anchor_new.inverse();
+  const auto target = gate_to_sonar_view(aggregate(ids, anchor), T_new_anchor, gate_range_m(),
+                                         gate_fov_deg(), config_.sonar_x_m);
+  const auto source = seen_from(cur.cloud_V, T_W_new, ids);
+  if (target.size() < config_.nssm_min_points || source.size() < config_.nssm_min_points) return;
+  const IcpResult icp = icp_2d(source, target, T_anchor_new, config_.icp);
+  Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source, config_.sigma_icp, false, ""};
+  if (!icp.converged) {
+    f.reason = "icp not converged";
+  } else if (icp.rmse > config_.nssm_max_rmse_m) {
+    f.reason = "icp rmse too large";
+  } else if (icp.inliers < config_.nssm_min_points) {
+    f.reason = "too few icp inliers";
+  } else {
+    f.reason = "pcm pending";
+    pcm_queue_.push_back(static_cast<int>(factors_.size()));
+  }
+  factors_.push_back(std::move(f));
+  while (static_cast<int>(pcm_queue_.size()) > config_.pcm_queue) {
+    Factor& old = factors_[static_cast<size_t>(pcm_queue_.front())];
+    if (!old.accepted) old.reason = "pcm rejected";
+    pcm_queue_.erase(pcm_queue_.begin());
+  }
+  run_pcm();
+}
+
+UncertainSE2 KeyframeSlam::odometry_between(int i, int j) const {
+  if (i > j) return inverse(odometry_between(j, i));
+  UncertainSE2 chain;  // identity, zero covariance
+  for (int k = i + 1; k <= j; ++k) {
+    const Factor& f = factors_[static_cast<size_t>(sequential_factor_[static_cast<size_t>(k)])];
+    chain = compose(chain, {f.T_from_to, covariance(f.sigma)});
+  }
+  chain.T = poses_[static_cast<size_t>(i)].inverse() * poses_[static_cast<size_t>(j)];
+  return chain;
+}
+
+void KeyframeSlam::run_pcm() {
+  const size_t n = pcm_queue_.size();
+  if (n < static_cast<size_t>(std::max(config_.min_pcm, 1))) return;
+  std::vector<LoopCandidate> candidates;
+  for (int i : pcm_queue_) {
+    const Factor& f = factors_[static_cast<size_t>(i)];
+    candidates.push_back({f.from, f.to, {f.T_from_to, covariance(f.sigma)}});
+  }
+  const Adjacency adj = pcm_consistency(
+      candidates, [this](int i, int j) { return odometry_between(i, j); }, config_.pcm_threshold);
+  const std::vector<int> clique = maximum_clique(adj);
+  if (static_cast<int>(clique.size()) < config_.min_pcm) return;
+  for (int c : clique) {
+    Factor& f = factors_[static_cast<size_t>(pcm_queue_[static_cast<size_t>(c)])];
+    if (!f.accepted) {
+      f.accepted = true;
+      f.reason = "pcm clique of " + std::to_string(clique.size());
+    }
+  }
+}
+
+void KeyframeSlam::solve() {
+  std::vector<GraphEdge> edges;
+  for (const Factor& f : factors_) {
+    if (f.accepted && f.kind != FactorKind::kPrior) edges.push_back({f.from, f.to, f.T_from_to, f.sigma});
+  }
+  last_solve_ = solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior, edges,
+                                 config_.solver);
+  for (size_t k = 0; k < keyframes_.size(); ++k) {
+    Keyframe& kf = keyframes_[k];
+    const Vec3 rpy = rpy_from_rotation(kf.T_W_V_dr.rotation());
+    kf.T_W_V_slam = se3_from_se2(poses_[k], kf.T_W_V_dr.translation().z(), rpy.x(), rpy.y());
+  }
+}
+
+}  // namespace orthosonar::slam

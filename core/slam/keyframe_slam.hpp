@@ -1,0 +1,119 @@
+#pragma once
+// Keyframe pose SLAM (SPEC §5, paper §IV): keyframes by DR distance/rotation; sequential
+// scan matching (SSM) by 2D ICP against the previous keyframes, with a DR odometry factor
+// as fallback so the graph never breaks; loop closures (NSSM) against older keyframes in
+// sonar range and field of view, filtered by PCM; a Ceres SE(2) pose graph re-solved
+// warm-started after every keyframe. 6-DoF keyframe poses = SE(2) + DR z, roll, pitch.
+// Deterministic; not thread-safe.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/geometry.hpp"
+#include "core/slam/icp.hpp"
+#include "core/slam/pcm.hpp"
+#include "core/slam/planar_cloud.hpp"
+#include "core/slam/pose_graph.hpp"
+#include "core/time.hpp"
+
+namespace orthosonar::slam {
+
+struct SlamConfig {
+  // Keyframe selection.
+  double kf_distance_m = 3.0;
+  double kf_rotation_deg = 30.0;
+  // Planar cloud.
+  double voxel_m = 0.5;
+  double outlier_radius_m = 1.0;
+  size_t outlier_min_neighbours = 5;
+  // Scan matching.
+  IcpConfig icp;
+  int ssm_target_frames = 3;
+  size_t ssm_min_points = 50;
+  double ssm_max_translation_m = 3.0;  // max ICP-vs-DR disagreement
+  double ssm_max_rotation_deg = 30.0;
+  // Loop closures.
+  int nssm_min_separation = 8;        // keyframes older than the newest by at least this
+  double nssm_range_m = 30.0;         // sonar range: gating of candidate keyframes and points
+  double nssm_fov_deg = 130.0;        // horizontal sonar swath
+  double sonar_x_m = 0.35;            // horizontal sonar position along V x (T_V_h)
+  // Field-of-view gating of ICP inputs (SSM and NSSM) can widen the sonar's view by these
+  // margins. Measured on the simulated harbor, widening made SSM worse (docs/SLAM.md).
+  double gate_margin_deg = 0.0;
+  double gate_margin_m = 0.0;
+  size_t nssm_min_points = 50;        // source and gated target points
+  int nssm_max_target_frames = 10;    // nearest candidate keyframes aggregated (bounds the cost)
+  double nssm_max_rmse_m = 1.0;       // an ICP fit worse than this is not a candidate (PCM judges the rest)
+  int pcm_queue = 5;
+  double pcm_threshold = 11.34;       // chi-square 0.99, 3 dof (squared Mahalanobis)
+  int min_pcm = 2;
+  // Noise sigmas (x m, y m, theta rad).
+  Eigen::Vector3d sigma_prior{0.1, 0.1, 0.01};
+  Eigen::Vector3d sigma_odometry{0.2, 0.2, 0.02};
+  Eigen::Vector3d sigma_icp{0.1, 0.1, 0.01};
+  PoseGraphConfig solver;
+};
+
+enum class FactorKind { kPrior, kOdometryDr, kSequentialIcp, kLoopClosure };
+const char* factor_kind_name(FactorKind k);  // "prior", "odometry_dr", "ssm_icp", "loop_closure"
+
+struct Factor {
+  FactorKind kind = FactorKind::kPrior;
+  int from = 0;  // for the prior, from == to == 0
+  int to = 0;
+  SE2 T_from_to;
+  Eigen::Vector3d sigma = Eigen::Vector3d::Zero();
+  bool accepted = false;  // in the graph
+  std::string reason;     // why accepted or rejected, e.g. "pcm clique 3", "icp not converged"
+};
+
+struct Keyframe {
+  int id = 0;
+  Time stamp;
+  SE3 T_W_V_dr;
+  SE3 T_W_V_slam;
+  std::vector<Eigen::Vector2d> cloud_V;  // prepared planar cloud (voxelised, outliers removed)
+};
+
+class KeyframeSlam {
+ public:
+  explicit KeyframeSlam(SlamConfig config = {});
+
+  // True for the first keyframe, then when the DR distance or yaw change since the last
+  // keyframe reaches the thresholds.
+  bool should_add(const SE3& T_W_V_dr) const;
+  // Adds a keyframe (SSM vs the previous keyframes, NSSM + PCM, warm-started re-solve).
+  // planar_points_V: horizontal-sonar detections in V with elevation 0 (x, y). Returns its id.
+  int add_keyframe(Time stamp, const SE3& T_W_V_dr, std::vector<Eigen::Vector2d> planar_points_V);
+
+  const std::vector<Keyframe>& keyframes() const { return keyframes_; }
+  const std::vector<Factor>& factors() const { return factors_; }
+  size_t accepted_loop_closures() const;
+  const SlamConfig& config() const { return config_; }
+  const PoseGraphSummary& last_solve() const { return last_solve_; }
+
+ private:
+  void sequential_match(int id);
+  void loop_closure(int id);
+  void run_pcm();
+  UncertainSE2 odometry_between(int i, int j) const;  // current estimate + chain covariance
+  // Points of cloud_V (keyframe at T_W_V) inside the sonar view of any of the keyframes `ids`.
+  std::vector<Eigen::Vector2d> seen_from(const std::vector<Eigen::Vector2d>& cloud_V, const SE2& T_W_V,
+                                         const std::vector<int>& ids) const;
+  std::vector<Eigen::Vector2d> aggregate(const std::vector<int>& ids, int frame) const;
+  void solve();
+  double gate_range_m() const { return config_.nssm_range_m + config_.gate_margin_m; }
+  double gate_fov_deg() const { return config_.nssm_fov_deg + 2.0 * config_.gate_margin_deg; }
+
+  SlamConfig config_;
+  std::vector<Keyframe> keyframes_;
+  std::vector<Factor> factors_;
+  std::vector<SE2> poses_;                 // SE(2) estimates, one per keyframe
+  std::vector<int> sequential_factor_;     // per keyframe k >= 1: factor linking k-1 -> k
+  std::vector<int> pcm_queue_;             // factor indices of the last loop candidates
+  PoseGraphSummary last_solve_;
+};
+
+}  // namespace orthosonar::slam

@@ -1,0 +1,102 @@
+#include "core/slam/keyframe_slam.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "core/random.hpp"
+#include "core/slam/dead_reckoning.hpp"
+#include "core/slam/synthetic.hpp"
+#include "core/slam/trajectory_error.hpp"
+
+using namespace orthosonar;
+using namespace orthosonar::slam;
+
+namespace {
+
+SE3 se3(const SE2& T) { return se3_from_se2(T, -3.0, 0.0, 0.0); }
+
+bool graph_connected(const KeyframeSlam& slam) {
+  // Every keyframe k >= 1 has an accepted sequential factor (k-1 -> k).
+  for (size_t k = 1; k < slam.keyframes().size(); ++k) {
+    bool found = false;
+    for (const auto& f : slam.factors()) {
+      found |= f.accepted && f.from == static_cast<int>(k) - 1 && f.to == static_cast<int>(k) &&
+               (f.kind == FactorKind::kSequentialIcp || f.kind == FactorKind::kOdometryDr);
+    }
+    if (!found) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("Keyframe selection by distance or rotation", "[unit]") {
+  KeyframeSlam slam;
+  CHECK(slam.should_add(SE3::Identity()));
+  slam.add_keyframe(Time(), SE3::Identity(), {});
+  CHECK_FALSE(slam.should_add(se3_from_xyz_rpy(2.9, 0, 0, 0, 0, 0)));
+  CHECK(slam.should_add(se3_from_xyz_rpy(3.0, 0, 0, 0, 0, 0)));
+  CHECK_FALSE(slam.should_add(se3_from_xyz_rpy(0, 0, 0, 0, 0, 0.5)));
+  CHECK(slam.should_add(se3_from_xyz_rpy(0, 0, 0, 0, 0, 0.53)));
+  // Without points the graph still grows, on dead reckoning.
+  slam.add_keyframe(Time::from_s(1), se3_from_xyz_rpy(3, 0, -2, 0.01, 0.02, 0.1), {});
+  REQUIRE(slam.keyframes().size() == 2);
+  CHECK(slam.factors().back().kind == FactorKind::kOdometryDr);
+  CHECK(slam.keyframes()[1].T_W_V_slam.isApprox(slam.keyframes()[1].T_W_V_dr, 1e-9));
+}
+
+TEST_CASE("Synthetic basin: SLAM halves the drifting DR error and closes loops", "[unit]") {
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
+  const auto dr = drifting_odometry(truth, 0.003, 0.0005, 0.02, 9);
+  KeyframeSlam slam;
+  std::vector<Vec3> p_truth, p_dr, p_slam;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]),
+                      synthetic_scan_V(world, truth[i], {}, 1, i));
+    REQUIRE(slam.last_solve().usable);
+  }
+  for (size_t i = 0; i < truth.size(); ++i) {
+    p_truth.push_back(se3(truth[i]).translation());
+    p_dr.push_back(slam.keyframes()[i].T_W_V_dr.translation());
+    p_slam.push_back(slam.keyframes()[i].T_W_V_slam.translation());
+  }
+  const double ate_dr = ate_rmse(p_dr, p_truth), ate_slam = ate_rmse(p_slam, p_truth);
+  INFO("keyframes " << truth.size() << " ATE DR " << ate_dr << " SLAM " << ate_slam << " loops "
+                    << slam.accepted_loop_closures());
+  CHECK(ate_dr > 2.0);
+  CHECK(ate_slam <= 0.5 * ate_dr);
+  CHECK(ate_slam < 0.5);
+  CHECK(slam.accepted_loop_closures() >= 1);
+  CHECK(graph_connected(slam));
+}
+
+TEST_CASE("A 20 s DVL outage mid-mission: no crash, graph connected, gap reported", "[unit]") {
+  const auto world = make_basin_world(5);
+  const auto route = loop_route(30.0, 20.0, 0.1, 1);  // 0.1 m per 0.2 s = 0.5 m/s
+  DeadReckoning dr;
+  KeyframeSlam slam;
+  Rng rng(4);
+  double bias = 0.0;
+  for (size_t i = 0; i < route.size(); ++i) {
+    const Time t = Time::from_ms(200 * static_cast<int64_t>(i));
+    bias += 0.0002;  // yaw drift of the IMU
+    const SE2& T = route[i];
+    dr.add(ImuReading{t, Quat(Eigen::AngleAxisd(T.theta + bias, Vec3::UnitZ())), Vec3::Zero(), Vec3::Zero()});
+    dr.add(DepthReading{t, 3.0 + 0.02 * rng.normal()});
+    const bool outage = t > Time::from_s(60) && t < Time::from_s(80);
+    if (!outage) {
+      const double v = i + 1 < route.size() ? (route[i + 1].translation() - T.translation()).norm() / 0.2 : 0.5;
+      dr.add(DvlReading{t, Vec3(v + 0.01 * rng.normal(), 0.01 * rng.normal(), 0.0), true, 5.0});
+    }
+    const auto pose = dr.pose_at(t);
+    if (!pose.ok() || !slam.should_add(*pose)) continue;
+    slam.add_keyframe(t, *pose, synthetic_scan_V(world, T, {}, 2, i));
+  }
+  REQUIRE(dr.counts().dropouts == 1);
+  CHECK(dr.counts().gaps[0].first == Time::from_s(60));
+  CHECK(dr.counts().gaps[0].second == Time::from_s(80));
+  CHECK(slam.keyframes().size() > 30);
+  CHECK(graph_connected(slam));
+  CHECK(slam.last_solve().usable);
+}

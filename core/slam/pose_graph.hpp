@@ -1,0 +1,53 @@
+#pragma once
+// SE(2) pose graph on Ceres (SPEC §5): relative-pose residuals weighted by the square-root
+// information (diagonal sigmas), analytic Jacobians, first pose anchored by a prior.
+// Single-threaded with every option set explicitly, so results are bit-reproducible.
+// Ceres stays out of this header (its glog CHECK macro would clash with Catch's).
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/geometry.hpp"
+
+namespace orthosonar::slam {
+
+struct PoseGraphConfig {
+  int max_iterations = 20;           // warm-started re-solves converge in a few
+  double function_tolerance = 1e-10;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-10;
+};
+
+struct GraphEdge {
+  int from = 0;
+  int to = 0;
+  SE2 T_from_to;
+  Eigen::Vector3d sigma{0.1, 0.1, 0.01};  // x, y (m), theta (rad)
+};
+
+struct PoseGraphSummary {
+  bool usable = false;
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+};
+
+// Residual of a relative-pose measurement z = T_from_to between poses a = T_W_from and
+// b = T_W_to, each stored as (x, y, theta):
+//   r_xy = S_xy R(z)^T (R(a)^T (t_b - t_a) - t_z),  r_theta = S_theta wrap(θb - θa - θz)
+// with S = diag(1 / sigma). J_a, J_b (row-major 3x3) are written when not null; these
+// analytic Jacobians are what the Ceres cost function returns.
+void relative_pose_residual(const double* a, const double* b, const SE2& z,
+                            const Eigen::Vector3d& sigma, double* residual, double* J_a,
+                            double* J_b);
+// Prior on one pose: r = S (R(p)^T (t - t_p), wrap(θ - θp)).
+void pose_prior_residual(const double* x, const SE2& prior, const Eigen::Vector3d& sigma,
+                         double* residual, double* J_x);
+
+// Optimises `poses` in place (they are the warm start). Pose 0 carries the prior.
+PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
+                                  const Eigen::Vector3d& prior_sigma,
+                                  const std::vector<GraphEdge>& edges,
+                                  const PoseGraphConfig& config);
+
+}  // namespace orthosonar::slam

@@ -1,0 +1,17 @@
+#include "core/slam/trajectory_error.hpp"
+
+#include <cmath>
+
+namespace orthosonar::slam {
+
+double ate_rmse(const std::vector<Vec3>& est, const std::vector<Vec3>& truth,
+                AteAlignment alignment) {
+  if (est.empty() || est.size() != truth.size()) return 0.0;
+  const Vec3 offset =
+      alignment == AteAlignment::kFirstPosition ? Vec3(truth.front() - est.front()) : Vec3::Zero();
+  double sum = 0.0;
+  for (size_t i = 0; i < est.size(); ++i) sum += (est[i] + offset - truth[i]).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(est.size()));
+}
+
+}  // namespace orthosonar::slam

@@ -1,0 +1,18 @@
+#pragma once
+// Absolute trajectory error (SPEC §7): RMSE of estimated positions against ground truth at
+// the same stamps (keyframes). The dead-reckoning frame starts wherever DrConfig puts it,
+// so by default both trajectories are first translated so their first positions coincide
+// (rotation is not aligned: yaw comes from the IMU and its drift is part of the error).
+#include <vector>
+
+#include "core/geometry.hpp"
+
+namespace orthosonar::slam {
+
+enum class AteAlignment { kNone, kFirstPosition };
+
+// est and truth are paired by index; sizes must match (0 when empty or mismatched).
+double ate_rmse(const std::vector<Vec3>& est, const std::vector<Vec3>& truth,
+                AteAlignment alignment = AteAlignment::kFirstPosition);
+
+}  // namespace orthosonar::slam

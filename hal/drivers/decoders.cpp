@@ -1,0 +1,132 @@
+#include "hal/drivers/decoders.hpp"
+
+#include "hal/drivers/dvl_protocols.hpp"
+#include "hal/drivers/line_framer.hpp"
+#include "hal/drivers/oculus_stream.hpp"
+#include "hal/drivers/vn100.hpp"
+
+namespace orthosonar::hal::drivers {
+namespace {
+
+class OculusDecoder final : public Decoder {
+ public:
+  explicit OculusDecoder(const DeviceConfig& c) : c_(c), part_(c.part_number) {}
+  void push(std::span<const uint8_t> bytes, std::vector<Payload>& out) override {
+    parser_.push(bytes);
+    while (auto m = parser_.pop()) {
+      const auto* p = std::get_if<oculus::PingResult>(&*m);
+      if (!p) continue;  // status echoes, acknowledgements: not events
+      auto s = oculus::to_sonar_ping(*p, c_.mount, part_, Time());
+      if (!s) {
+        ++rejected_;
+        last_error_ = s.error().message;
+        continue;
+      }
+      ++pings_;
+      out.emplace_back(std::move(*s));
+    }
+  }
+  uint64_t messages() const override { return pings_; }
+  uint64_t malformed() const override { return parser_.stats().malformed + rejected_; }
+  std::string last_error() const override { return last_error_.empty() ? parser_.last_error() : last_error_; }
+  Bytes greeting() const override { return oculus::encode_fire(c_.fire, c_.fire_version, 0, 0); }
+  bool on_status(std::span<const uint8_t> d) override {
+    auto s = oculus::parse_status(d);
+    if (!s) return false;
+    if (c_.part_number == 0) part_ = s->part_number;
+    return true;
+  }
+  uint16_t part_number() const override { return part_; }
+
+ private:
+  DeviceConfig c_;
+  uint16_t part_;
+  oculus::StreamParser parser_;
+  uint64_t pings_ = 0, rejected_ = 0;
+  std::string last_error_;
+};
+
+class Vn100Decoder final : public Decoder {
+ public:
+  explicit Vn100Decoder(const DeviceConfig& c) : q_V_S_(c.q_V_S) {}
+  void push(std::span<const uint8_t> bytes, std::vector<Payload>& out) override {
+    parser_.push(bytes);
+    while (auto m = parser_.pop()) {
+      auto r = vn100::to_imu_reading(*m, q_V_S_, Time());
+      if (!r) {
+        ++rejected_;
+        last_error_ = r.error().message;
+        continue;
+      }
+      ++ok_;
+      out.emplace_back(*r);
+    }
+  }
+  uint64_t messages() const override { return ok_; }
+  uint64_t malformed() const override { return parser_.malformed() + rejected_; }
+  std::string last_error() const override { return last_error_.empty() ? parser_.last_error() : last_error_; }
+
+ private:
+  Quat q_V_S_;
+  vn100::StreamParser parser_;
+  uint64_t ok_ = 0, rejected_ = 0;
+  std::string last_error_;
+};
+
+// Line protocols: A50 JSON, PRTI01, depth.
+class LineDecoder final : public Decoder {
+ public:
+  explicit LineDecoder(const DeviceConfig& c) : kind_(c.kind), q_V_S_(c.q_V_S) {}
+  void push(std::span<const uint8_t> bytes, std::vector<Payload>& out) override {
+    framer_.push(bytes);
+    while (auto line = framer_.pop()) {
+      if (line->empty()) continue;
+      if (kind_ == DeviceKind::kDepth) {
+        auto d = dvl::parse_depth_line(*line);
+        if (!d) { fail(d.error()); continue; }
+        ++ok_;
+        out.emplace_back(DepthReading{Time(), *d});
+      } else if (kind_ == DeviceKind::kA50) {
+        auto v = dvl::parse_a50_line(*line);
+        if (!v) { fail(v.error()); continue; }
+        if (!v->has_value()) continue;  // another report type
+        ++ok_;
+        out.emplace_back(dvl::to_dvl_reading(**v, q_V_S_, Time()));
+      } else {
+        auto v = dvl::parse_prti01(*line);
+        if (!v) { fail(v.error()); continue; }
+        ++ok_;
+        out.emplace_back(dvl::to_dvl_reading(*v, q_V_S_, Time()));
+      }
+    }
+  }
+  uint64_t messages() const override { return ok_; }
+  uint64_t malformed() const override { return bad_ + framer_.overlong(); }
+  std::string last_error() const override { return last_error_; }
+
+ private:
+  void fail(const Error& e) {
+    ++bad_;
+    last_error_ = e.message;
+  }
+  DeviceKind kind_;
+  Quat q_V_S_;
+  LineFramer framer_;
+  uint64_t ok_ = 0, bad_ = 0;
+  std::string last_error_;
+};
+
+}  // namespace
+
+std::unique_ptr<Decoder> make_decoder(const DeviceConfig& c) {
+  switch (c.kind) {
+    case DeviceKind::kOculus: return std::make_unique<OculusDecoder>(c);
+    case DeviceKind::kVn100: return std::make_unique<Vn100Decoder>(c);
+    case DeviceKind::kA50:
+    case DeviceKind::kPrti01:
+    case DeviceKind::kDepth: return std::make_unique<LineDecoder>(c);
+  }
+  return nullptr;
+}
+
+}  // namespace orthosonar::hal::drivers

@@ -1,0 +1,116 @@
+#pragma once
+// Every number of the simulator (SPEC §10) with its default; units in field names.
+#include <array>
+#include <numbers>
+#include <cstdint>
+#include <string>
+
+#include "core/geometry.hpp"
+#include "core/mesh.hpp"
+#include "core/result.hpp"
+
+namespace orthosonar::sim {
+
+// Full: 512 beams x 600 range bins at 0.05 m (30 m). Reduced: 256 x 300 at 0.10 m (30 m).
+enum class Resolution { kFull, kReduced };
+const char* resolution_name(Resolution r);
+Result<Resolution> parse_resolution(const std::string& s);
+
+// Image formation of one Oculus-like sonar (both sonars share it).
+struct SonarModelConfig {
+  double max_range_m = 30.0;
+  int beams_full = 512;
+  int range_bins_full = 600;
+  double swath_deg = 130.0;            // total horizontal field of view of the fan
+  double aperture_deg = 20.0;          // across the fan
+  // Bearing table non-uniformity: theta = half_swath * ((1 - c) u + c u^3), u uniform in [-1, 1].
+  double bearing_cubic = 0.08;
+  int elevation_samples = 32;          // stratified rays across the aperture (>= 32)
+  int beam_samples = 3;                // rays across each beam's width
+  double beam_width_factor = 1.0;      // beam width as a multiple of the local beam spacing
+  double aperture_sigma_deg = 8.5;     // Gaussian elevation pattern (-3 dB near +-10 deg)
+  double incidence_exponent = 1.0;     // k in cos(incidence)^k
+  double spreading_exponent = 2.0;     // p in r^-p
+  // Reflectivity per SemanticClass (index = class value).
+  std::array<double, kSemanticClassCount> reflectivity = {0.0, 0.35, 0.9, 0.8, 0.85,
+                                                          0.95, 0.75, 1.0, 0.6};
+  int speckle_looks = 2;               // multiplicative speckle: Gamma(L, 1/L), mean 1
+  double noise_floor = 0.0015;         // additive noise (linear units, exponential intensity)
+  double tvg_exponent = 2.0;           // time-varied gain r^q (q = p: range-independent targets)
+  double tvg_reference_m = 10.0;       // range where the TVG is 1
+  double gain = 12.0;                  // linear gain before quantisation
+  double gamma = 0.5;                  // display gamma of the 8-bit image
+  double gain_percent = 50.0;          // what the ping reports as its gain setting
+  double frequency_h_hz = 750e3;       // M750d low-frequency mode
+  double frequency_v_hz = 1.2e6;       // M1200d high-frequency mode
+};
+
+struct VehicleConfig {
+  double speed_mps = 0.4;              // 0.3-0.5 m/s
+  double max_yaw_rate_dps = 8.0;
+  double yaw_gain_per_s = 0.6;         // commanded yaw rate = gain * heading error
+  double acceptance_radius_m = 1.5;    // waypoint reached
+  double slow_turn_factor = 0.3;       // speed scale at 90 deg heading error
+  double roll_amplitude_deg = 0.6;     // small sway: sinusoids, periods below
+  double pitch_amplitude_deg = 0.4;
+  double roll_period_s = 9.0;
+  double pitch_period_s = 13.0;
+  double current_x_mps = 0.02;         // water current in W (the autopilot does not correct it)
+  double current_y_mps = -0.01;
+  double step_s = 0.01;                // integration step (truth sampled here, interpolated)
+};
+
+struct NavConfig {
+  double imu_rate_hz = 100.0;
+  double dvl_rate_hz = 5.0;
+  double depth_rate_hz = 5.0;
+  double ping_rate_hz = 5.0;
+  double ping_offset_s = 0.1;          // first horizontal ping (nav data precedes it)
+  double vertical_delay_s = 0.003;     // vertical ping after the horizontal
+  double dvl_offset_s = 0.0;
+  double depth_offset_s = 0.02;
+  double dvl_sigma_mps = 0.01;
+  double dvl_invalid_probability = 0.02;
+  double dvl_max_altitude_m = 50.0;    // bottom lock lost beyond this
+  double imu_roll_pitch_sigma_deg = 0.1;
+  double imu_yaw_sigma_deg = 0.2;
+  double imu_yaw_bias_walk_deg_per_sqrt_s = 0.05;  // random walk of the yaw bias
+  double imu_yaw_bias_rate_dps = 0.004;            // steady drift (2.4 deg over 10 min)
+  double imu_gyro_sigma_dps = 0.05;
+  double depth_sigma_m = 0.02;
+};
+
+struct SimConfig {
+  double duration_s = 60.0;
+  uint64_t seed = 1;                   // noise seed (scene geometry has its own seed)
+  Resolution resolution = Resolution::kFull;
+  bool labels = false;                 // emit SonarLabels per ping
+  SE3 T_V_h = se3_from_xyz_rpy(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);
+  SE3 T_V_v = se3_from_xyz_rpy(0.35, 0.0, -0.10, std::numbers::pi / 2.0, 0.0, 0.0);
+  uint32_t device_id_h = 101;
+  uint32_t device_id_v = 102;
+  int render_threads = 1;              // pings rendered ahead in parallel (same bytes for any count)
+  SonarModelConfig sonar;
+  VehicleConfig vehicle;
+  NavConfig nav;
+};
+
+// Beams and range bins for a resolution.
+struct SonarGeometry {
+  int beams = 512;
+  int range_bins = 600;
+  double range_resolution_m = 0.05;
+};
+SonarGeometry sonar_geometry(const SonarModelConfig& c, Resolution r);
+
+// Overrides fields from a YAML map whose keys mirror the struct fields, e.g.
+// {duration_s: 120, sonar: {gain: 4}, nav: {dvl_sigma_mps: 0.02}}. Unknown keys are errors.
+Status apply_sim_config_yaml(const std::string& yaml_text, SimConfig& config);
+// Checks ranges (elevation_samples >= 32, positive rates, ...).
+Status validate(const SimConfig& config);
+
+// "x y z roll pitch yaw" (metres, radians), as fixture metadata stores extrinsics.
+std::string format_pose6(const SE3& T);
+Result<SE3> parse_pose6(const std::string& s);
+
+}  // namespace orthosonar::sim

@@ -1,0 +1,46 @@
+#pragma once
+// What `orthosonar inspect` and run summaries report about a fixture: duration, channels
+// (topic, schema, count, rate), gaps longer than twice a channel's nominal period,
+// metadata, container facts and how much of a truncated file was recovered.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/time.hpp"
+#include "replay/fixture.hpp"
+
+namespace orthosonar::replay {
+
+struct Gap {
+  Time from, to;  // stamps of the two messages around the gap
+};
+
+struct ChannelSummary {
+  std::string topic, schema;
+  uint64_t count = 0;
+  Time first, last;
+  double rate_hz = 0.0;     // (count - 1) / (last - first)
+  Time nominal_period;      // median interval between consecutive messages
+  std::vector<Gap> gaps;    // intervals > 2 x nominal_period
+};
+
+struct FixtureSummary {
+  std::string path, profile, library;
+  uint64_t file_bytes = 0;
+  uint64_t messages = 0;
+  uint64_t chunks = 0;
+  std::vector<std::string> compressions;  // distinct chunk compressions ("" = none)
+  Time start, end;                        // first and last stamp
+  Time duration() const { return end - start; }
+  FixtureMetadata metadata;
+  RecoveryReport recovery;
+  std::vector<ChannelSummary> channels;   // channels present, in Channel order
+};
+
+// Reads every message (CRC-checked, decoded). Errors name the file and byte offset.
+Result<FixtureSummary> summarize_fixture(const std::string& path);
+
+// True when the first bytes of the file are the MCAP magic (for dispatching by content).
+bool has_mcap_magic(const std::string& path);
+
+}  // namespace orthosonar::replay

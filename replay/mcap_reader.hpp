@@ -1,0 +1,90 @@
+#pragma once
+// Reading our MCAP fixtures: a memory-mapped file, a structural scan of its records
+// (checking magic, opcodes, the data section CRC and the summary CRC, and recovering the
+// readable prefix of a truncated file), and decoding one chunk into events.
+// Errors name the file and the byte offset at fault.
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/events.hpp"
+#include "core/result.hpp"
+#include "replay/fixture.hpp"
+
+namespace orthosonar::replay::mcap {
+
+// A read-only memory map of a whole file (empty files map to nothing).
+class MappedFile {
+ public:
+  static Result<std::unique_ptr<MappedFile>> open(const std::string& path);
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  const uint8_t* data() const { return data_; }
+  size_t size() const { return size_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  MappedFile() = default;
+  const uint8_t* data_ = nullptr;
+  size_t size_ = 0;
+  std::string path_;
+};
+
+struct ChunkRef {
+  uint64_t offset = 0;          // of the Chunk record
+  uint64_t records_offset = 0;  // of its (compressed) records
+  uint64_t compressed_size = 0;
+  uint64_t uncompressed_size = 0;
+  uint32_t uncompressed_crc = 0;
+  std::string compression;      // "" or "zstd"
+  uint64_t start_ns = 0, end_ns = 0;
+};
+
+struct ChannelRef {
+  uint16_t id = 0;
+  Channel channel = Channel::kImu;
+  std::string topic;
+  std::string schema_name;
+};
+
+// A decoded message with where it came from (for error messages).
+struct LocatedEvent {
+  Event event;
+  uint64_t chunk_offset = 0;  // file offset of its chunk (0: not in a chunk)
+  uint64_t offset = 0;        // file offset, or offset inside the uncompressed chunk
+};
+std::string describe_location(const LocatedEvent& e);
+
+struct Statistics {
+  uint64_t message_count = 0;
+  uint32_t chunk_count = 0;
+  uint64_t start_ns = 0, end_ns = 0;
+  std::map<uint16_t, uint64_t> channel_counts;
+};
+
+struct Layout {
+  std::string profile, library;
+  FixtureMetadata metadata;
+  std::map<uint16_t, ChannelRef> channels;
+  std::vector<ChunkRef> chunks;              // in file order
+  std::vector<LocatedEvent> loose_messages;  // Message records outside chunks
+  std::optional<Statistics> statistics;      // from the summary, when present
+  RecoveryReport recovery;
+};
+
+// Scans the record structure. A truncated file (no footer, or a record running past the
+// end) is not an error: the layout covers the complete records and `recovery` says how
+// much was kept. With `count_messages`, a truncated file's chunks are decoded to count
+// (and CRC-check) the messages recovered.
+Result<Layout> scan(const MappedFile& file, bool count_messages = true);
+
+// Decompresses a chunk, checks its CRC, and appends its messages (decoded) to `out`.
+// `scratch` is reused between calls.
+Status read_chunk(const MappedFile& file, const Layout& layout, const ChunkRef& chunk,
+                  std::vector<LocatedEvent>& out, std::vector<uint8_t>& scratch);
+
+}  // namespace orthosonar::replay::mcap

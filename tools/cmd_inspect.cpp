@@ -1,0 +1,119 @@
+// `orthosonar inspect f.mcap [--json]`: what a fixture holds. Files that are not MCAP
+// (no MCAP magic) are handed to the raw Oculus capture inspector.
+// Exit codes: 0 a complete fixture, 1 a truncated fixture (readable prefix reported),
+// 2 unreadable or malformed input.
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "replay/fixture_summary.hpp"
+#include "tools/cli.hpp"
+#include "tools/support_inspect_oculus.hpp"
+
+namespace orthosonar::cli {
+namespace {
+
+struct InspectOptions {
+  std::string path;
+  bool json = false;
+  size_t max_gaps = 10;  // per channel, in the text output
+};
+
+std::string secs(Time t) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3) << t.seconds();
+  return s.str();
+}
+
+nlohmann::ordered_json to_json(const replay::FixtureSummary& s) {
+  nlohmann::ordered_json j;
+  j["path"] = s.path;
+  j["format"] = "mcap";
+  j["profile"] = s.profile;
+  j["library"] = s.library;
+  j["file_bytes"] = s.file_bytes;
+  j["start_ns"] = s.start.ns();
+  j["end_ns"] = s.end.ns();
+  j["duration_s"] = s.duration().seconds();
+  j["messages"] = s.messages;
+  j["chunks"] = s.chunks;
+  j["compression"] = s.compressions;
+  j["channels"] = nlohmann::ordered_json::array();
+  for (const auto& c : s.channels) {
+    nlohmann::ordered_json cj;
+    cj["topic"] = c.topic;
+    cj["schema"] = c.schema;
+    cj["count"] = c.count;
+    cj["rate_hz"] = c.rate_hz;
+    cj["nominal_period_s"] = c.nominal_period.seconds();
+    cj["first_ns"] = c.first.ns();
+    cj["last_ns"] = c.last.ns();
+    cj["gaps"] = nlohmann::ordered_json::array();
+    for (const auto& g : c.gaps)
+      cj["gaps"].push_back({{"from_ns", g.from.ns()}, {"to_ns", g.to.ns()}, {"length_s", (g.to - g.from).seconds()}});
+    j["channels"].push_back(cj);
+  }
+  j["metadata"] = s.metadata;
+  j["recovery"] = {{"complete", s.recovery.complete},
+                   {"bytes_total", s.recovery.bytes_total},
+                   {"bytes_recovered", s.recovery.bytes_recovered},
+                   {"messages_recovered", s.recovery.messages_recovered},
+                   {"detail", s.recovery.detail}};
+  return j;
+}
+
+void print_text(const replay::FixtureSummary& s, const InspectOptions& o) {
+  std::cout << s.path << ": MCAP (" << s.profile << ", " << s.library << "), " << s.file_bytes << " bytes, "
+            << s.chunks << " chunks";
+  for (const auto& c : s.compressions) std::cout << " [" << (c.empty() ? "uncompressed" : c) << "]";
+  std::cout << "\n";
+  std::cout << "duration: " << secs(s.duration()) << " s (" << secs(s.start) << " .. " << secs(s.end) << "), "
+            << s.messages << " messages\n";
+  std::cout << "channels:\n";
+  for (const auto& c : s.channels) {
+    std::printf("  %-26s %-28s %8llu msgs %9.3f Hz  %zu gaps\n", c.topic.c_str(), c.schema.c_str(),
+                static_cast<unsigned long long>(c.count), c.rate_hz, c.gaps.size());
+    for (size_t i = 0; i < c.gaps.size() && i < o.max_gaps; ++i)
+      std::cout << "    gap " << secs(c.gaps[i].to - c.gaps[i].from) << " s at " << secs(c.gaps[i].from)
+                << " s (nominal " << secs(c.nominal_period) << " s)\n";
+    if (c.gaps.size() > o.max_gaps) std::cout << "    ... " << c.gaps.size() - o.max_gaps << " more\n";
+  }
+  std::cout << "metadata:\n";
+  for (const auto& [k, v] : s.metadata) std::cout << "  " << k << ": " << v << "\n";
+  if (s.recovery.complete) {
+    std::cout << "recovery: complete file\n";
+  } else {
+    std::cout << "recovery: INCOMPLETE, recovered " << s.recovery.bytes_recovered << " of " << s.recovery.bytes_total
+              << " bytes, " << s.recovery.messages_recovered << " messages\n  " << s.recovery.detail << "\n";
+  }
+}
+
+int run_inspect(const InspectOptions& o) {
+  if (!replay::has_mcap_magic(o.path)) return inspect_oculus_capture(o.path, o.json);
+  auto s = replay::summarize_fixture(o.path);
+  if (!s) {
+    std::cerr << "orthosonar inspect: " << s.error().message << "\n";
+    return 2;
+  }
+  if (o.json) {
+    std::cout << to_json(*s).dump(2) << "\n";
+  } else {
+    print_text(*s, o);
+  }
+  return s->recovery.complete ? 0 : 1;
+}
+
+const bool registered = register_command(
+    {"inspect", "Describe a fixture (.mcap) or a raw Oculus capture: channels, rates, gaps, metadata",
+     [](CLI::App& sub) -> std::function<int()> {
+       auto o = std::make_shared<InspectOptions>();
+       sub.add_option("file", o->path, "Fixture (.mcap) or raw Oculus capture")->required();
+       sub.add_flag("--json", o->json, "Machine-readable output");
+       sub.add_option("--max-gaps", o->max_gaps, "Gaps listed per channel in the text output")->capture_default_str();
+       return [o] { return run_inspect(*o); };
+     }});
+
+}  // namespace
+}  // namespace orthosonar::cli

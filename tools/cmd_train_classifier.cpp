@@ -1,0 +1,161 @@
+// `orthosonar train-classifier`: trains the inference classifier (SPEC §8) on simulated
+// data. For each scene, the simulator runs with per-pixel labels; every `stride`-th
+// horizontal ping goes through CFAR and DBSCAN exactly as in the pipeline, each cluster's
+// crop is labelled with the majority class of its pixels, the crops are split (held-out
+// per class), the training part augmented, and the CNN trained with a fixed seed. Prints
+// held-out accuracy per class and writes the model (torch archive) to -o.
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/inference/classifier.hpp"
+#include "core/inference/training_set.hpp"
+#include "core/perception/cfar.hpp"
+#include "core/perception/fusion.hpp"
+#include "hal/sim/simulator.hpp"
+#include "tools/cli.hpp"
+
+namespace orthosonar::cli {
+namespace {
+
+struct TrainArgs {
+  std::string scenes = "marina1,marina2";
+  double duration_s = 60.0;
+  uint64_t seed = 1;
+  uint64_t scene_seed = 1;
+  std::string resolution = "full";
+  int stride = 2;
+  int epochs = 12;
+  int per_class = 400;
+  int threads = 2;
+  std::string out;
+};
+
+std::vector<std::string> split_csv(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+int run_train(const TrainArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto resolution = sim::parse_resolution(a.resolution);
+  if (!resolution) {
+    std::cerr << "train-classifier: " << resolution.error().message << "\n";
+    return 2;
+  }
+  if (a.out.empty() || a.stride < 1 || a.duration_s <= 0.0) {
+    std::cerr << "train-classifier: need -o <model file>, --stride >= 1 and --duration > 0\n";
+    return 2;
+  }
+  // Torch runs single-threaded so the model bits do not depend on the machine's cores;
+  // the simulator renders with `threads` (its bytes are the same for any count).
+  inference::InferenceRuntime::configure(1, a.seed);
+  const perception::CfarConfig cfar = perception::FusionConfig{}.cfar_h;
+  std::vector<inference::LabelledCluster> clusters;
+  for (const std::string& name : split_csv(a.scenes)) {
+    auto scene = sim::builtin_scene(name, a.scene_seed);
+    if (!scene) {
+      std::cerr << "train-classifier: " << scene.error().message << "\n";
+      return 2;
+    }
+    sim::SimConfig cfg;
+    cfg.duration_s = a.duration_s;
+    cfg.seed = a.seed;
+    cfg.resolution = *resolution;
+    cfg.labels = true;
+    cfg.render_threads = std::max(1, a.threads);
+    sim::Simulator simulator(std::move(*scene), cfg);
+    std::optional<SonarPing> last_h;
+    size_t pings = 0, before = clusters.size();
+    for (;;) {
+      sim::Pulled p = simulator.next();
+      if (p.error) {
+        std::cerr << "train-classifier: simulator: " << p.error->message << "\n";
+        return 2;
+      }
+      if (p.end_of_stream || !p.event) break;
+      Event& e = *p.event;
+      if (e.channel == Channel::kSonarHorizontal) {
+        last_h = std::get<SonarPing>(std::move(e.payload));
+      } else if (e.channel == Channel::kLabelsHorizontal && last_h) {
+        const auto& labels = std::get<SonarLabels>(e.payload);
+        if (labels.ping_id != last_h->ping_id || (pings++ % static_cast<size_t>(a.stride)) != 0) continue;
+        std::vector<inference::PixelRC> det;
+        for (const auto& d : perception::cfar_detect(*last_h, cfar)) det.push_back({d.row, d.col});
+        auto got = inference::labelled_clusters(*last_h, labels, det);
+        for (auto& c : got) clusters.push_back(std::move(c));
+      }
+    }
+    std::printf("scene %s: %zu pings, %zu labelled clusters (%.1f s)\n", name.c_str(), pings,
+                clusters.size() - before, seconds_since(t0));
+  }
+  inference::TrainingSetConfig tcfg;
+  tcfg.target_per_class = a.per_class;
+  const inference::TrainingSet set = inference::build_training_set(clusters, tcfg, a.seed);
+  if (set.classes.size() < 2) {
+    std::cerr << "train-classifier: fewer than two classes with enough samples (" << clusters.size()
+              << " labelled clusters); simulate longer\n";
+    return 2;
+  }
+  inference::Classifier net({}, set.classes, a.seed);
+  inference::TrainConfig train;
+  train.epochs = a.epochs;
+  const double loss = net.train(set.train, train, a.seed);
+  std::printf("trained on %zu crops (%zu classes), last-epoch loss %.4f (%.1f s)\n", set.train.size(),
+              set.classes.size(), loss, seconds_since(t0));
+  std::printf("%-10s %9s %8s %9s %11s\n", "class", "originals", "held-out", "accuracy", "mc-accepted");
+  size_t correct = 0, total = 0;
+  const auto acc = net.evaluate(set.holdout, a.seed);
+  for (size_t c = 0; c < acc.size(); ++c) {
+    correct += acc[c].correct;
+    total += acc[c].samples;
+    std::printf("%-10s %9zu %8zu %8.1f%% %10.1f%%\n", semantic_class_name(acc[c].semantic), set.originals[c],
+                acc[c].samples, 100.0 * acc[c].accuracy(),
+                acc[c].samples ? 100.0 * static_cast<double>(acc[c].accepted) / static_cast<double>(acc[c].samples) : 0.0);
+  }
+  std::printf("overall held-out accuracy %.1f%% (%zu/%zu)\n",
+              total ? 100.0 * static_cast<double>(correct) / static_cast<double>(total) : 0.0, correct, total);
+  std::ofstream f(a.out, std::ios::binary);
+  const std::string bytes = net.serialize();
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!f) {
+    std::cerr << "train-classifier: cannot write '" << a.out << "'\n";
+    return 2;
+  }
+  std::printf("model written to %s (%zu bytes, %.1f s)\n", a.out.c_str(), bytes.size(), seconds_since(t0));
+  return 0;
+}
+
+const bool registered = register_command(
+    {"train-classifier", "Train the inference classifier on simulated, labelled sonar data",
+     [](CLI::App& sub) -> std::function<int()> {
+       auto a = std::make_shared<TrainArgs>();
+       sub.add_option("--scenes", a->scenes, "Built-in scenes, comma separated")->capture_default_str();
+       sub.add_option("--duration", a->duration_s, "Simulated seconds per scene")->capture_default_str();
+       sub.add_option("--seed", a->seed, "Seed of the simulation, split, augmentation and training")->capture_default_str();
+       sub.add_option("--scene-seed", a->scene_seed, "Scene geometry seed")->capture_default_str();
+       sub.add_option("--resolution", a->resolution, "full or reduced")->capture_default_str();
+       sub.add_option("--stride", a->stride, "Use every n-th horizontal ping")->capture_default_str();
+       sub.add_option("--epochs", a->epochs, "Training epochs")->capture_default_str();
+       sub.add_option("--per-class", a->per_class, "Training crops per class after augmentation")->capture_default_str();
+       sub.add_option("--threads", a->threads, "Simulator render threads (training is single-threaded)")->capture_default_str();
+       sub.add_option("-o,--out", a->out, "Model file to write")->required();
+       return [a] { return run_train(*a); };
+     }});
+
+}  // namespace
+}  // namespace orthosonar::cli

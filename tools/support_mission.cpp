@@ -1,0 +1,66 @@
+#include "tools/support_mission.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "hal/sim/simulator.hpp"
+#include "replay/fixture.hpp"
+
+namespace orthosonar::cli {
+namespace {
+
+bool same_mission(const replay::FixtureMetadata& m, const MissionSpec& s) {
+  auto get = [&](const char* k) -> std::string {
+    const auto it = m.find(k);
+    return it == m.end() ? std::string() : it->second;
+  };
+  return get("scene") == s.scene && get("seed") == std::to_string(s.seed) &&
+         get("resolution") == sim::resolution_name(s.resolution) &&
+         std::abs(std::atof(get("duration_s").c_str()) - s.duration_s) < 1e-6 &&
+         s.sim_config_yaml.empty();  // overrides are not in the metadata: always re-simulate
+}
+
+}  // namespace
+
+Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& path,
+                                    const std::function<void(double)>& progress) {
+  if (std::filesystem::exists(path)) {
+    auto existing = replay::FixtureSource::open(path);
+    if (existing.ok() && (*existing)->recovery().complete && same_mission((*existing)->metadata(), spec))
+      return false;
+  }
+  auto scene = sim::builtin_scene(spec.scene, spec.seed);
+  if (!scene.ok()) return scene.error();
+  sim::SimConfig cfg;
+  cfg.duration_s = spec.duration_s;
+  cfg.seed = spec.seed;
+  cfg.resolution = spec.resolution;
+  cfg.render_threads = spec.render_threads;
+  if (!spec.sim_config_yaml.empty())
+    if (Status s = sim::apply_sim_config_yaml(spec.sim_config_yaml, cfg); !s.ok()) return s.error();
+  if (Status s = sim::validate(cfg); !s.ok()) return s.error();
+  sim::Simulator simulator(std::move(*scene), cfg);
+  std::error_code ec;
+  if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty())
+    std::filesystem::create_directories(parent, ec);
+  const std::string tmp = path + ".partial";
+  auto writer = replay::FixtureWriter::open(tmp, simulator.metadata());
+  if (!writer.ok()) return writer.error();
+  const Time duration = Time::from_seconds(spec.duration_s);
+  uint64_t n = 0;
+  for (;;) {
+    auto p = simulator.next();
+    if (p.error) return Error{simulator.describe() + ": " + p.error->message};
+    if (p.end_of_stream || !p.event) break;
+    if (Status s = (*writer)->write(*p.event); !s.ok()) return s.error();
+    if (progress && (++n % 1024) == 0) progress(p.event->stamp.seconds() / duration.seconds());
+  }
+  if (Status s = (*writer)->close(); !s.ok()) return s.error();
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Error{"cannot rename '" + tmp + "' to '" + path + "': " + ec.message()};
+  if (progress) progress(1.0);
+  return true;
+}
+
+}  // namespace orthosonar::cli

@@ -1,0 +1,27 @@
+#pragma once
+// Simulated missions for sweep and demo: simulate a built-in scene into a fixture file,
+// reusing an existing fixture when its metadata says it was made with the same settings.
+#include <functional>
+#include <string>
+
+#include "core/result.hpp"
+#include "hal/sim/sim_config.hpp"
+
+namespace orthosonar::cli {
+
+struct MissionSpec {
+  std::string scene = "harbor";
+  double duration_s = 180.0;
+  sim::Resolution resolution = sim::Resolution::kFull;
+  uint64_t seed = 1;
+  int render_threads = 2;
+  std::string sim_config_yaml;  // simulator overrides (fields of SimConfig), may be empty
+};
+
+// Writes `path` unless a complete fixture with the same scene, seed, resolution and
+// duration is already there. `progress(fraction)` is called while simulating.
+// Returns true when it simulated, false when it reused.
+Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& path,
+                                    const std::function<void(double)>& progress = {});
+
+}  // namespace orthosonar::cli

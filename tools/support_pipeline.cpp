@@ -1,0 +1,501 @@
+#include "tools/support_pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <sstream>
+
+#include <openssl/evp.h>
+
+#include "core/canonical.hpp"
+#include "core/inference/inference_mapping.hpp"
+#include "core/mapping/systems.hpp"
+#include "hal/sim/mesh_io.hpp"
+#include "hal/sim/scene.hpp"
+#include "orthosonar/version.hpp"
+#include "replay/fixture.hpp"
+#include "replay/outputs/map_writers.hpp"
+#include "tools/support_trajectory.hpp"
+
+namespace orthosonar::cli {
+
+// ---------------------------------------------------------------- thread pool, clock
+
+ThreadPool::ThreadPool(int threads) {
+  for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { work(); });
+}
+
+ThreadPool::~ThreadPool() {
+  {
+    std::lock_guard lock(mu_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  for (auto& w : workers_) w.join();
+}
+
+void ThreadPool::drain() {
+  size_t done = 0;
+  for (size_t i = next_.fetch_add(1); i < n_; i = next_.fetch_add(1)) {
+    (*task_)(i);
+    ++done;
+  }
+  std::lock_guard lock(mu_);
+  finished_ += done;
+  if (finished_ == n_) done_cv_.notify_all();
+}
+
+void ThreadPool::work() {
+  uint64_t seen = 0;
+  for (;;) {
+    {
+      std::unique_lock lock(mu_);
+      cv_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+    }
+    drain();
+  }
+}
+
+void ThreadPool::run(size_t n, const std::function<void(size_t)>& task) {
+  if (n == 0) return;
+  if (workers_.empty() || n == 1) {
+    for (size_t i = 0; i < n; ++i) task(i);
+    return;
+  }
+  {
+    std::lock_guard lock(mu_);
+    task_ = &task;
+    n_ = n;
+    next_ = 0;
+    finished_ = 0;
+    ++generation_;
+  }
+  cv_.notify_all();
+  drain();
+  std::unique_lock lock(mu_);
+  done_cv_.wait(lock, [&] { return finished_ == n_; });
+}
+
+double SteadyClock::now_ms() const {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// ---------------------------------------------------------------- digest
+
+std::string sha256_hex(const std::vector<uint8_t>& bytes) {
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned int len = 0;
+  EVP_Digest(bytes.data(), bytes.size(), md, &len, EVP_sha256(), nullptr);
+  static const char* hex = "0123456789abcdef";
+  std::string s;
+  for (unsigned int i = 0; i < len; ++i) {
+    s += hex[md[i] >> 4];
+    s += hex[md[i] & 15];
+  }
+  return s;
+}
+
+DigestSet make_digest(const std::map<std::string, std::vector<uint8_t>>& canonical_outputs) {
+  DigestSet d;
+  CanonicalWriter all;
+  for (const auto& [name, bytes] : canonical_outputs) {
+    d.outputs[name] = sha256_hex(bytes);
+    all.put_string(name);
+    all.put_string(d.outputs[name]);
+  }
+  d.overall = sha256_hex(all.bytes());
+  return d;
+}
+
+nlohmann::json digest_to_json(const DigestSet& d) {
+  nlohmann::json j;
+  j["overall"] = d.overall;
+  j["outputs"] = nlohmann::json::object();
+  for (const auto& [k, v] : d.outputs) j["outputs"][k] = v;
+  return j;
+}
+
+Result<DigestSet> read_digest_file(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) return Error{"cannot open digest '" + path + "'"};
+  try {
+    const auto j = nlohmann::json::parse(f);
+    DigestSet d;
+    d.overall = j.at("overall").get<std::string>();
+    for (const auto& [k, v] : j.at("outputs").items()) d.outputs[k] = v.get<std::string>();
+    return d;
+  } catch (const std::exception& e) {
+    return Error{"'" + path + "': not a digest.json (" + e.what() + ")"};
+  }
+}
+
+std::vector<std::string> digest_differences(const DigestSet& expected, const DigestSet& actual) {
+  std::vector<std::string> out;
+  for (const auto& [k, v] : expected.outputs) {
+    const auto it = actual.outputs.find(k);
+    if (it == actual.outputs.end() || it->second != v) out.push_back(k);
+  }
+  for (const auto& [k, v] : actual.outputs)
+    if (!expected.outputs.count(k)) out.push_back(k);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// ---------------------------------------------------------------- setup
+
+void apply_mission_start(const std::map<std::string, std::string>& metadata, RunConfig& config) {
+  const auto scene = sim::scene_from_metadata(metadata);
+  if (scene.ok() && !scene->route.empty())
+    config.pipeline.dr.initial_xy_m = Vec2(scene->route.front().x_m, scene->route.front().y_m);
+}
+
+std::optional<TriangleMesh> load_truth_mesh(const std::map<std::string, std::string>& metadata,
+                                            const std::string& mesh_path, std::string& note) {
+  if (!mesh_path.empty()) {
+    auto m = sim::read_mesh(mesh_path);
+    if (!m.ok()) {
+      note = m.error().message;
+      return std::nullopt;
+    }
+    note = "file:" + mesh_path;
+    return std::move(*m);
+  }
+  auto scene = sim::scene_from_metadata(metadata);
+  if (!scene.ok()) {
+    note = "no ground-truth mesh: " + scene.error().message;
+    return std::nullopt;
+  }
+  note = "scene:" + scene->origin;
+  return std::move(scene->mesh);
+}
+
+Result<std::vector<std::unique_ptr<mapping::MappingSystem>>> make_systems(const RunOptions& o) {
+  std::vector<std::unique_ptr<mapping::MappingSystem>> out;
+  for (const auto& name : o.systems) {
+    if (auto s = mapping::make_geometric_system(name)) {
+      out.push_back(std::move(s));
+      continue;
+    }
+    if (name == "inference" || name == "inference_submap") {
+      if (o.model_path.empty()) return Error{"system '" + name + "' needs --model <classifier model file>"};
+      std::ifstream f(o.model_path, std::ios::binary);
+      if (!f) return Error{"cannot open model '" + o.model_path + "'"};
+      std::stringstream ss;
+      ss << f.rdbuf();
+      auto s = inference::make_inference_system_from_model(inference::InferenceConfig{}, name == "inference_submap",
+                                                           ss.str());
+      if (!s.ok()) return Error{o.model_path + ": " + s.error().message};
+      out.push_back(std::move(*s));
+      continue;
+    }
+    return Error{"unknown mapping system '" + name + "' (fusion, submap, inference, inference_submap)"};
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- run
+
+namespace {
+
+double nan_or(const std::optional<double>& v) { return v ? *v : std::numeric_limits<double>::quiet_NaN(); }
+
+std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::PipelineCounts& c,
+                                                          const slam::DrCounts& dr) {
+  return {{"events", c.events},       {"sonar_h", c.sonar_h},
+          {"sonar_v", c.sonar_v},     {"imu", c.imu},
+          {"dvl", c.dvl},             {"depth", c.depth},
+          {"truth", c.truth},         {"labels", c.labels},
+          {"pairs", c.pairs},         {"unpaired_h", c.unpaired_h},
+          {"unpaired_v", c.unpaired_v}, {"pairs_without_dr", c.pairs_without_dr},
+          {"detections_h", c.detections_h}, {"detections_v", c.detections_v},
+          {"matches", c.matches},     {"culled_low_confidence", c.culled_low_confidence},
+          {"fused_points", c.fused_points}, {"keyframes", c.keyframes},
+          {"loop_closures", c.loop_closures},
+          {"dvl_rejected_invalid", static_cast<int64_t>(dr.dvl_invalid)},
+          {"dvl_rejected_nonfinite", static_cast<int64_t>(dr.dvl_nonfinite)},
+          {"dvl_rejected_too_fast", static_cast<int64_t>(dr.dvl_too_fast)},
+          {"dvl_dropouts", static_cast<int64_t>(dr.dropouts)}};
+}
+
+std::map<std::string, std::vector<uint8_t>> canonical_outputs(const RunOutput& r) {
+  std::map<std::string, std::vector<uint8_t>> out;
+  const auto& slam = r.pipeline->slam();
+  CanonicalWriter kf;
+  kf.put_u64(slam.keyframes().size());
+  for (const auto& k : slam.keyframes()) {
+    kf.put_i32(k.id);
+    kf.put_i64(k.stamp.ns());
+    kf.put_se3(k.T_W_V_dr);
+    kf.put_se3(k.T_W_V_slam);
+  }
+  out["keyframes"] = kf.take();
+  CanonicalWriter fw;
+  fw.put_u64(slam.factors().size());
+  for (const auto& f : slam.factors()) {
+    fw.put_u8(static_cast<uint8_t>(f.kind));
+    fw.put_i32(f.from);
+    fw.put_i32(f.to);
+    fw.put_f64(f.T_from_to.x);
+    fw.put_f64(f.T_from_to.y);
+    fw.put_f64(f.T_from_to.theta);
+    fw.put_bool(f.accepted);
+  }
+  out["factors"] = fw.take();
+  CanonicalWriter cw;
+  for (const auto& [name, v] : count_fields(r.counts, r.pipeline->dead_reckoning().counts())) {
+    cw.put_string(name);
+    cw.put_i64(v);
+  }
+  out["counts"] = cw.take();
+  for (const auto& s : r.systems) {
+    CanonicalWriter m;
+    m.put_points(s.map_W);
+    out[s.name + "/map"] = m.take();
+    CanonicalWriter mt;
+    mt.put_i64(s.coverage_voxels);
+    mt.put_i64(s.accuracy ? s.accuracy->count : 0);
+    mt.put_f64(s.accuracy ? s.accuracy->mae_m : std::numeric_limits<double>::quiet_NaN());
+    mt.put_f64(s.accuracy ? s.accuracy->rmse_m : std::numeric_limits<double>::quiet_NaN());
+    mt.put_f64(nan_or(r.ate_dr_m));
+    mt.put_f64(nan_or(r.ate_slam_m));
+    out[s.name + "/metrics"] = mt.take();
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::string, std::string>& metadata,
+                               const RunOptions& options, const std::optional<TriangleMesh>& mesh,
+                               const mapping::FuseFn& fuse, const std::function<void(Time)>& progress) {
+  auto systems = make_systems(options);
+  if (!systems.ok()) return systems.error();
+  RunOutput r;
+  r.metadata = metadata;
+  r.pipeline = std::make_unique<mapping::Pipeline>(options.config.pipeline);
+  ThreadPool pool(std::max(1, options.config.threads));
+  SteadyClock clock;
+  r.pipeline->set_executor(&pool);
+  r.pipeline->set_clock(&clock);
+  if (fuse) r.pipeline->set_fusion(fuse);
+  for (auto& s : *systems) r.pipeline->add_system(std::move(s));
+
+  const auto wall0 = std::chrono::steady_clock::now();
+  std::optional<Time> first, last;
+  int64_t n = 0;
+  for (;;) {
+    hal::Pulled p = source.next();
+    if (p.error) return Error{source.describe() + ": " + p.error->message};
+    if (p.end_of_stream || !p.event) break;
+    const Time t = p.event->stamp;
+    if (!first) first = t;
+    last = t;
+    if (options.rate > 0.0) {
+      const auto due = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>((t - *first).seconds() / options.rate));
+      std::this_thread::sleep_until(due);
+    }
+    r.pipeline->consume(*p.event);
+    if (progress && (++n % 2048) == 0) progress(t);
+  }
+  r.pipeline->finish();
+  r.stream_span = first ? (*last - *first) : Time();
+
+  r.counts = r.pipeline->counts();
+  r.truth = r.pipeline->truth();
+  r.runtime = r.pipeline->runtime();
+  std::vector<mapping::StampedPosition> dr, sl;
+  for (const auto& k : r.pipeline->slam().keyframes()) {
+    dr.push_back({k.stamp, k.T_W_V_dr.translation()});
+    sl.push_back({k.stamp, k.T_W_V_slam.translation()});
+  }
+  r.ate_dr_m = mapping::absolute_trajectory_error(dr, r.truth);
+  r.ate_slam_m = mapping::absolute_trajectory_error(sl, r.truth);
+  r.mesh = mesh;
+  std::optional<mapping::MeshDistance> md;
+  if (mesh) md.emplace(*mesh);
+  const mapping::VoxelConfig vc{options.config.voxel_m};
+  for (const auto& s : r.pipeline->systems()) {
+    SystemOutput o;
+    o.name = s->name();
+    o.map_W = s->map_points_W();
+    const auto centroids = mapping::voxel_centroids(o.map_W, vc);
+    o.coverage_voxels = static_cast<int64_t>(centroids.size());
+    if (md) o.accuracy = mapping::accuracy(centroids, *md);
+    o.runtime = s->runtime();
+    r.systems.push_back(std::move(o));
+  }
+  r.digest = make_digest(canonical_outputs(r));
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return r;
+}
+
+// ---------------------------------------------------------------- outputs
+
+namespace {
+
+nlohmann::json runtime_json(const std::vector<std::pair<std::string, mapping::RuntimeStats>>& rt) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [name, s] : rt) j[name] = {{"mean_ms", s.mean_ms()}, {"sd_ms", s.sd_ms()}, {"count", s.count}};
+  return j;
+}
+
+nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+
+Status write_json(const std::filesystem::path& path, const nlohmann::json& j) {
+  std::ofstream f(path, std::ios::trunc);
+  if (!f) return Error{"cannot open '" + path.string() + "' for writing"};
+  f << j.dump(2) << "\n";
+  if (!f) return Error{"write failed for '" + path.string() + "'"};
+  return {};
+}
+
+}  // namespace
+
+nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s) {
+  nlohmann::json counts = nlohmann::json::object();
+  for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
+  counts["map_points"] = s.map_W.size();
+  return {{"system", s.name},
+          {"coverage_voxels", s.coverage_voxels},
+          {"mae_m", s.accuracy ? nlohmann::json(s.accuracy->mae_m) : nlohmann::json(nullptr)},
+          {"rmse_m", s.accuracy ? nlohmann::json(s.accuracy->rmse_m) : nlohmann::json(nullptr)},
+          {"ate_dr_m", opt_json(run.ate_dr_m)},
+          {"ate_slam_m", opt_json(run.ate_slam_m)},
+          {"runtime", runtime_json([&] {
+             auto rt = s.runtime;
+             for (const auto& p : run.runtime)
+               if (p.first == "fusion" || p.first == "slam_update") rt.push_back(p);
+             return rt;
+           }())},
+          {"counts", counts}};
+}
+
+Status write_run_outputs(const RunOutput& run, const RunOptions& options, const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  const fs::path out(out_dir);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) return Error{"cannot create '" + out_dir + "': " + ec.message()};
+  for (const auto& s : run.systems) {
+    const fs::path d = out / s.name;
+    fs::create_directories(d, ec);
+    if (ec) return Error{"cannot create '" + d.string() + "': " + ec.message()};
+    if (Status st = outputs::write_pcd((d / "map.pcd").string(), s.map_W); !st.ok()) return st;
+    if (Status st = outputs::write_ply((d / "map.ply").string(), s.map_W); !st.ok()) return st;
+    if (Status st = outputs::write_octomap((d / "map.bt").string(), s.map_W, options.config.octomap_resolution_m);
+        !st.ok())
+      return st;
+    if (Status st = write_json(d / "metrics.json", system_metrics_json(run, s)); !st.ok()) return st;
+  }
+  const auto& slam = run.pipeline->slam();
+  if (Status st = write_keyframe_table((out / "keyframes.csv").string(), slam); !st.ok()) return st;
+  if (Status st = write_tum((out / "traj_dr.tum").string(), keyframe_poses_dr(slam)); !st.ok()) return st;
+  if (Status st = write_tum((out / "traj_slam.tum").string(), keyframe_poses_slam(slam)); !st.ok()) return st;
+  if (!run.truth.empty()) {
+    std::vector<StampedPose> truth;
+    truth.reserve(run.truth.size());
+    for (const auto& t : run.truth) {
+      SE3 T = SE3::Identity();
+      T.linear() = t.q_W_V.normalized().toRotationMatrix();
+      T.translation() = t.p_W;
+      truth.push_back({t.stamp, T});
+    }
+    if (Status st = write_tum((out / "traj_truth.tum").string(), truth); !st.ok()) return st;
+  }
+  if (run.mesh)
+    if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
+
+  nlohmann::json summary;
+  nlohmann::json fixture = nlohmann::json::object();
+  for (const auto& [k, v] : run.metadata) fixture[k] = v;
+  summary["fixture"] = fixture;
+  summary["software_version"] = kVersion;
+  summary["config"] = config_to_json(options.config);
+  summary["systems"] = options.systems;
+  summary["ground_truth_mesh"] = run.mesh_note;
+  nlohmann::json counts = nlohmann::json::object();
+  for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
+  summary["counts"] = counts;
+  summary["stream_s"] = run.stream_span.seconds();
+  summary["runtime"] = runtime_json(run.runtime);
+  summary["ate_dr_m"] = opt_json(run.ate_dr_m);
+  summary["ate_slam_m"] = opt_json(run.ate_slam_m);
+  summary["digest"] = run.digest.overall;
+  if (Status st = write_json(out / "summary.json", summary); !st.ok()) return st;
+  return write_json(out / "digest.json", digest_to_json(run.digest));
+}
+
+Result<RunOutput> replay_file(const std::string& fixture_path, RunOptions options, bool progress) {
+  auto src = replay::FixtureSource::open(fixture_path);
+  if (!src.ok()) return src.error();
+  auto& source = **src;
+  if (!source.recovery().complete)
+    std::cerr << "warning: " << fixture_path << " is incomplete: " << source.recovery().detail << "\n";
+  const auto& meta = source.metadata();
+  apply_mission_start(meta, options.config);
+  std::string note;
+  const auto mesh = load_truth_mesh(meta, options.mesh_path, note);
+  double duration_s = 0.0;
+  if (const auto it = meta.find("duration_s"); it != meta.end()) duration_s = std::atof(it->second.c_str());
+  std::optional<Time> t0;
+  auto on_progress = [&](Time t) {
+    if (!t0) t0 = t;
+    if (progress && duration_s > 0.0)
+      print_progress("replay", (t - *t0).seconds() / duration_s, std::to_string(static_cast<int>((t - *t0).seconds())) + " s");
+  };
+  auto r = run_pipeline(source, meta, options, mesh, {}, on_progress);
+  if (!r.ok()) return r.error();
+  if (progress && duration_s > 0.0) print_progress("replay", 1.0, "done");
+  r->mesh_note = note;
+  return r;
+}
+
+void add_run_options(CLI::App& sub, CommonRunArgs& a) {
+  sub.add_option("--systems", a.systems, "Mapping systems, comma separated (fusion, submap, inference, inference_submap)")
+      ->capture_default_str();
+  sub.add_option("--threads", a.threads, "Fusion threads (outputs identical for any count; default from config, 1)");
+  sub.add_option("--config", a.config_path, "YAML configuration of every stage");
+  sub.add_option("--rate", a.rate, "Pace the replay at R x sensor time (0: as fast as possible; changes no output)");
+  sub.add_option("--mesh", a.mesh_path, "Ground-truth mesh (PLY/OBJ/STL); default: the fixture's scene");
+  sub.add_option("--model", a.model_path, "Classifier model for the inference systems");
+}
+
+Result<RunOptions> run_options_from(const CommonRunArgs& a) {
+  RunOptions o;
+  if (!a.config_path.empty())
+    if (Status s = load_config_file(a.config_path, o.config); !s.ok()) return s.error();
+  if (a.threads > 0) o.config.threads = a.threads;
+  if (a.rate < 0.0) return Error{"--rate must be >= 0"};
+  o.rate = a.rate;
+  o.mesh_path = a.mesh_path;
+  o.model_path = a.model_path;
+  o.systems.clear();
+  std::stringstream ss(a.systems);
+  std::string name;
+  while (std::getline(ss, name, ','))
+    if (!name.empty()) o.systems.push_back(name);
+  if (o.systems.empty()) return Error{"--systems is empty"};
+  return o;
+}
+
+void print_progress(const std::string& label, double fraction, const std::string& detail) {
+  const double f = std::clamp(fraction, 0.0, 1.0);
+  constexpr int kWidth = 30;
+  const int filled = static_cast<int>(f * kWidth);
+  std::string bar(static_cast<size_t>(filled), '#');
+  bar.resize(kWidth, '.');
+  std::fprintf(stderr, "\r%s [%s] %3d%%  %s   ", label.c_str(), bar.c_str(), static_cast<int>(f * 100.0),
+               detail.c_str());
+  if (f >= 1.0) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace orthosonar::cli

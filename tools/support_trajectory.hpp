@@ -1,0 +1,36 @@
+#pragma once
+// Trajectory and keyframe-table files (outputs contract): TUM trajectories
+// ("t x y z qx qy qz qw", t in seconds with 9 decimals) that evo reads, and keyframes.csv.
+// File I/O lives here, in tools, not in core.
+#include <string>
+#include <vector>
+
+#include "core/geometry.hpp"
+#include "core/result.hpp"
+#include "core/slam/keyframe_slam.hpp"
+#include "core/time.hpp"
+
+namespace orthosonar::cli {
+
+struct StampedPose {
+  Time stamp;
+  SE3 T_W_V;
+};
+
+// One TUM line without the newline. Exact stamp from integer ns; quaternion with qw >= 0.
+std::string tum_line(Time stamp, const SE3& T_W_V);
+std::string tum_text(const std::vector<StampedPose>& poses);
+Status write_tum(const std::string& path, const std::vector<StampedPose>& poses);
+
+// DR and SLAM keyframe trajectories.
+std::vector<StampedPose> keyframe_poses_dr(const slam::KeyframeSlam& slam);
+std::vector<StampedPose> keyframe_poses_slam(const slam::KeyframeSlam& slam);
+
+// keyframes.csv: one row per keyframe; header
+//   id,stamp_ns,dr_x,dr_y,dr_z,dr_roll,dr_pitch,dr_yaw,slam_x,...,slam_yaw,factors
+// where factors lists every factor ending at that keyframe as
+//   kind:from>to:accepted (accepted is 1 or 0), separated by ';'.
+std::string keyframe_table_csv(const slam::KeyframeSlam& slam);
+Status write_keyframe_table(const std::string& path, const slam::KeyframeSlam& slam);
+
+}  // namespace orthosonar::cli
