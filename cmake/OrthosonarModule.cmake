@@ -56,7 +56,7 @@ function(orthosonar_module target)
     orthosonar_warnings(${target}_tests)
     catch_discover_tests(${target}_tests
       TEST_PREFIX "${target}:"
-      PROPERTIES LABELS "${M_LABELS}" ENVIRONMENT "ORTHOSONAR_SHARED=${PROJECT_SOURCE_DIR}/../shared;ORTHOSONAR_SOURCE=${PROJECT_SOURCE_DIR};ORTHOSONAR_TEST_OUT=${CMAKE_BINARY_DIR}/test_out")
+      PROPERTIES LABELS "${M_LABELS}")  # environment: see property_tests/catch_main.cpp
   endif()
   if(bench_src)
     set_property(GLOBAL APPEND PROPERTY ORTHOSONAR_BENCH_SOURCES ${bench_src})

@@ -58,7 +58,7 @@ std::string last_line(const std::string& s) {
 const fs::path& fixture() {
   static const fs::path f = [] {
     const fs::path path = test_dir() / "harbor_short.mcap";
-    const Run r = run("simulate --scene harbor --duration 25 --resolution reduced -q -o " + path.string());
+    const Run r = run("simulate --scene harbor --duration 15 --resolution reduced -q -o " + path.string());
     REQUIRE(r.code == 0);
     return path;
   }();

@@ -42,9 +42,9 @@ struct MissionResult {
 
 slam::SlamConfig mission_slam_config() {
   slam::SlamConfig c;
-  // SPEC §5 says >= 5 neighbours; on the simulator's reduced-resolution images that leaves
-  // 0-10 points per keyframe (pilings are 1-3 voxels), so ICP never runs. 2 is sonar-SLAM's
-  // value (feature.yaml min_points). See docs/SLAM.md.
+  // SPEC §5 says >= 5 neighbours; on the simulator's reduced-resolution images (as of
+  // this writing) that left 0-10 points per keyframe (pilings are 1-3 voxels), later gave no
+  // gain on marina1. 2 is sonar-SLAM's value (feature.yaml min_points). See docs/SLAM.md.
   c.outlier_min_neighbours = 2;
   return c;
 }

@@ -1,3 +1,18 @@
-// The one Catch2 main shared by every test executable (compiled once).
-#define CATCH_CONFIG_MAIN
+// The one Catch2 main shared by every test executable (compiled once). Before running, it
+// supplies the test environment that ctest cannot pass reliably to discovered tests
+// (Catch's discovery flattens property lists): where tests may write, the repository, the
+// shared fixtures and the CLI. Values already in the environment win.
+#define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+
+int main(int argc, char* argv[]) {
+  ::setenv("ORTHOSONAR_SOURCE", ORTHOSONAR_SOURCE_DIR, 0);
+  ::setenv("ORTHOSONAR_SHARED", ORTHOSONAR_SOURCE_DIR "/../shared", 0);
+  ::setenv("ORTHOSONAR_TEST_OUT", ORTHOSONAR_BINARY_DIR "/test_out", 0);
+  ::setenv("ORTHOSONAR_CLI", ORTHOSONAR_CLI_PATH, 0);
+  std::error_code ec;
+  std::filesystem::create_directories(std::getenv("ORTHOSONAR_TEST_OUT"), ec);
+  return Catch::Session().run(argc, argv);
+}

@@ -164,8 +164,10 @@ Status golden_section(Builder& b, std::vector<std::string>& notes) {
       continue;
     }
     for (View v : {View::kTop, View::kOblique}) {
-      auto cur = render_map_view(b.run, s.map_W, v, b.bounds, s.name + " current", b.render);
-      auto gold = render_map_view(b.run, g->map_W, v, b.bounds, s.name + " golden", b.render);
+      // The same title on both, so the score measures the maps only (captions say which is which).
+      const std::string title = s.name + ", " + view_name(v) + " view";
+      auto cur = render_map_view(b.run, s.map_W, v, b.bounds, title, b.render);
+      auto gold = render_map_view(b.run, g->map_W, v, b.bounds, title, b.render);
       if (!cur || !gold) {
         notes.push_back(s.name + ": " + (!cur ? cur.error().message : gold.error().message));
         continue;
@@ -226,7 +228,7 @@ Status write_report(const std::string& run_dir, const std::string& report_dir, c
   if (auto d = check_display(); d) {
     b.can_render = true;
   } else if (options.require_renders) {
-    return Error{"report: " + d.error().message};
+    return d.error();
   } else {
     notes.push_back("3D renders skipped: " + d.error().message);
   }

@@ -53,6 +53,21 @@ TEST_CASE("the report references only files that exist and shows every part", "[
   CHECK(html.find("<style>") != std::string::npos);
 }
 
+TEST_CASE("a run compared with itself scores zero image difference", "[report]") {
+  const Status display = check_display();
+  if (!display) FAIL(display.error().message);
+  const auto dir = testing::test_dir("report_self");
+  REQUIRE(write_synthetic_run((dir / "run").string(), {.points_per_piling = 20, .with_grid = false}).ok());
+  ReportOptions o;
+  o.golden_dir = (dir / "run").string();
+  o.width_px = 320;
+  o.height_px = 240;
+  REQUIRE(write_report((dir / "run").string(), (dir / "report").string(), o).ok());
+  const std::string html = slurp(dir / "report" / "report.html");
+  CHECK(html.find("<td>fusion</td><td>top</td><td>0.0000</td>") != std::string::npos);
+  CHECK(html.find("<td>inference</td><td>oblique</td><td>0.0000</td>") != std::string::npos);
+}
+
 TEST_CASE("the report of the same run is byte-identical HTML", "[report]") {
   const auto dir = testing::test_dir("report_deterministic");
   REQUIRE(write_synthetic_run((dir / "run").string(), {.points_per_piling = 20}).ok());

@@ -2,7 +2,9 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <chrono>
 #include <mutex>
+#include <thread>
 
 #include <X11/Xlib.h>
 
@@ -18,7 +20,11 @@ void* shared_x_display() {
   const char* name = std::getenv("DISPLAY");
   if (name == nullptr || std::strlen(name) == 0) return nullptr;
   std::lock_guard<std::mutex> lock(g_mutex);
-  if (g_display == nullptr) g_display = XOpenDisplay(name);
+  // A server that is resetting (its previous last client just left) refuses briefly: retry.
+  for (int attempt = 0; g_display == nullptr && attempt < 20; ++attempt) {
+    g_display = XOpenDisplay(name);
+    if (g_display == nullptr) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   return g_display;
 }
 

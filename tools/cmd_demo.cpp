@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "orthosonar/version.hpp"
+#include "reports/report.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_mission.hpp"
 #include "tools/support_pipeline.hpp"
@@ -98,6 +99,21 @@ int run_demo(const DemoOptions& o) {
   }
   print_table(*r);
   std::cout << "digest " << r->digest.overall << "\n";
+  // The review report. Without an X display (not run under xvfb-run) the 3D renders are
+  // skipped and the HTML says so; every other part is still written.
+  const std::string report_dir = (fs::path(o.out_dir) / "report").string();
+  reports::ReportOptions ropt;
+  Status rs = reports::write_report(o.out_dir, report_dir, ropt);
+  if (!rs.ok()) {
+    std::cerr << "orthosonar demo: report: " << rs.error().message << "; writing it without 3D renders\n";
+    ropt.require_renders = false;
+    rs = reports::write_report(o.out_dir, report_dir, ropt);
+  }
+  if (!rs.ok()) {
+    std::cerr << "orthosonar demo: report: " << rs.error().message << "\n";
+    return 2;
+  }
+  std::cout << "report: " << (fs::path(report_dir) / "report.html").string() << "\n";
   std::cout << "demo: outputs in " << o.out_dir << " (verify with: orthosonar verify " << fixture << " --expect "
             << (fs::path(o.out_dir) / "digest.json").string() << ")\n";
   return 0;

@@ -10,7 +10,6 @@
 #include <limits>
 #include <sstream>
 
-#include <openssl/evp.h>
 
 #include "core/canonical.hpp"
 #include "core/inference/inference_mapping.hpp"
@@ -18,6 +17,7 @@
 #include "hal/sim/mesh_io.hpp"
 #include "hal/sim/scene.hpp"
 #include "orthosonar/version.hpp"
+#include "replay/digest.hpp"
 #include "replay/fixture.hpp"
 #include "replay/outputs/map_writers.hpp"
 #include "tools/support_trajectory.hpp"
@@ -89,29 +89,13 @@ double SteadyClock::now_ms() const {
 
 // ---------------------------------------------------------------- digest
 
-std::string sha256_hex(const std::vector<uint8_t>& bytes) {
-  unsigned char md[EVP_MAX_MD_SIZE];
-  unsigned int len = 0;
-  EVP_Digest(bytes.data(), bytes.size(), md, &len, EVP_sha256(), nullptr);
-  static const char* hex = "0123456789abcdef";
-  std::string s;
-  for (unsigned int i = 0; i < len; ++i) {
-    s += hex[md[i] >> 4];
-    s += hex[md[i] & 15];
-  }
-  return s;
-}
+std::string sha256_hex(const std::vector<uint8_t>& bytes) { return replay::sha256_hex(bytes.data(), bytes.size()); }
 
 DigestSet make_digest(const std::map<std::string, std::vector<uint8_t>>& canonical_outputs) {
-  DigestSet d;
-  CanonicalWriter all;
-  for (const auto& [name, bytes] : canonical_outputs) {
-    d.outputs[name] = sha256_hex(bytes);
-    all.put_string(name);
-    all.put_string(d.outputs[name]);
-  }
-  d.overall = sha256_hex(all.bytes());
-  return d;
+  replay::DigestBuilder b;
+  for (const auto& [name, bytes] : canonical_outputs) b.add(name, bytes);
+  const auto r = b.finish();
+  return {r.overall_hex, r.outputs};
 }
 
 nlohmann::json digest_to_json(const DigestSet& d) {
@@ -123,29 +107,13 @@ nlohmann::json digest_to_json(const DigestSet& d) {
 }
 
 Result<DigestSet> read_digest_file(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) return Error{"cannot open digest '" + path + "'"};
-  try {
-    const auto j = nlohmann::json::parse(f);
-    DigestSet d;
-    d.overall = j.at("overall").get<std::string>();
-    for (const auto& [k, v] : j.at("outputs").items()) d.outputs[k] = v.get<std::string>();
-    return d;
-  } catch (const std::exception& e) {
-    return Error{"'" + path + "': not a digest.json (" + e.what() + ")"};
-  }
+  auto r = replay::read_digest_json(path);
+  if (!r.ok()) return r.error();
+  return DigestSet{r->overall_hex, r->outputs};
 }
 
 std::vector<std::string> digest_differences(const DigestSet& expected, const DigestSet& actual) {
-  std::vector<std::string> out;
-  for (const auto& [k, v] : expected.outputs) {
-    const auto it = actual.outputs.find(k);
-    if (it == actual.outputs.end() || it->second != v) out.push_back(k);
-  }
-  for (const auto& [k, v] : actual.outputs)
-    if (!expected.outputs.count(k)) out.push_back(k);
-  std::sort(out.begin(), out.end());
-  return out;
+  return replay::differing_outputs({expected.overall, expected.outputs}, {actual.overall, actual.outputs});
 }
 
 // ---------------------------------------------------------------- setup
@@ -206,6 +174,8 @@ namespace {
 
 double nan_or(const std::optional<double>& v) { return v ? *v : std::numeric_limits<double>::quiet_NaN(); }
 
+}  // namespace
+
 std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::PipelineCounts& c,
                                                           const slam::DrCounts& dr) {
   return {{"events", c.events},       {"sonar_h", c.sonar_h},
@@ -223,6 +193,8 @@ std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::Pipelin
           {"dvl_rejected_too_fast", static_cast<int64_t>(dr.dvl_too_fast)},
           {"dvl_dropouts", static_cast<int64_t>(dr.dropouts)}};
 }
+
+namespace {
 
 std::map<std::string, std::vector<uint8_t>> canonical_outputs(const RunOutput& r) {
   std::map<std::string, std::vector<uint8_t>> out;
@@ -335,102 +307,6 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
   r.digest = make_digest(canonical_outputs(r));
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return r;
-}
-
-// ---------------------------------------------------------------- outputs
-
-namespace {
-
-nlohmann::json runtime_json(const std::vector<std::pair<std::string, mapping::RuntimeStats>>& rt) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [name, s] : rt) j[name] = {{"mean_ms", s.mean_ms()}, {"sd_ms", s.sd_ms()}, {"count", s.count}};
-  return j;
-}
-
-nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
-
-Status write_json(const std::filesystem::path& path, const nlohmann::json& j) {
-  std::ofstream f(path, std::ios::trunc);
-  if (!f) return Error{"cannot open '" + path.string() + "' for writing"};
-  f << j.dump(2) << "\n";
-  if (!f) return Error{"write failed for '" + path.string() + "'"};
-  return {};
-}
-
-}  // namespace
-
-nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s) {
-  nlohmann::json counts = nlohmann::json::object();
-  for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
-  counts["map_points"] = s.map_W.size();
-  return {{"system", s.name},
-          {"coverage_voxels", s.coverage_voxels},
-          {"mae_m", s.accuracy ? nlohmann::json(s.accuracy->mae_m) : nlohmann::json(nullptr)},
-          {"rmse_m", s.accuracy ? nlohmann::json(s.accuracy->rmse_m) : nlohmann::json(nullptr)},
-          {"ate_dr_m", opt_json(run.ate_dr_m)},
-          {"ate_slam_m", opt_json(run.ate_slam_m)},
-          {"runtime", runtime_json([&] {
-             auto rt = s.runtime;
-             for (const auto& p : run.runtime)
-               if (p.first == "fusion" || p.first == "slam_update") rt.push_back(p);
-             return rt;
-           }())},
-          {"counts", counts}};
-}
-
-Status write_run_outputs(const RunOutput& run, const RunOptions& options, const std::string& out_dir) {
-  namespace fs = std::filesystem;
-  const fs::path out(out_dir);
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) return Error{"cannot create '" + out_dir + "': " + ec.message()};
-  for (const auto& s : run.systems) {
-    const fs::path d = out / s.name;
-    fs::create_directories(d, ec);
-    if (ec) return Error{"cannot create '" + d.string() + "': " + ec.message()};
-    if (Status st = outputs::write_pcd((d / "map.pcd").string(), s.map_W); !st.ok()) return st;
-    if (Status st = outputs::write_ply((d / "map.ply").string(), s.map_W); !st.ok()) return st;
-    if (Status st = outputs::write_octomap((d / "map.bt").string(), s.map_W, options.config.octomap_resolution_m);
-        !st.ok())
-      return st;
-    if (Status st = write_json(d / "metrics.json", system_metrics_json(run, s)); !st.ok()) return st;
-  }
-  const auto& slam = run.pipeline->slam();
-  if (Status st = write_keyframe_table((out / "keyframes.csv").string(), slam); !st.ok()) return st;
-  if (Status st = write_tum((out / "traj_dr.tum").string(), keyframe_poses_dr(slam)); !st.ok()) return st;
-  if (Status st = write_tum((out / "traj_slam.tum").string(), keyframe_poses_slam(slam)); !st.ok()) return st;
-  if (!run.truth.empty()) {
-    std::vector<StampedPose> truth;
-    truth.reserve(run.truth.size());
-    for (const auto& t : run.truth) {
-      SE3 T = SE3::Identity();
-      T.linear() = t.q_W_V.normalized().toRotationMatrix();
-      T.translation() = t.p_W;
-      truth.push_back({t.stamp, T});
-    }
-    if (Status st = write_tum((out / "traj_truth.tum").string(), truth); !st.ok()) return st;
-  }
-  if (run.mesh)
-    if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
-
-  nlohmann::json summary;
-  nlohmann::json fixture = nlohmann::json::object();
-  for (const auto& [k, v] : run.metadata) fixture[k] = v;
-  summary["fixture"] = fixture;
-  summary["software_version"] = kVersion;
-  summary["config"] = config_to_json(options.config);
-  summary["systems"] = options.systems;
-  summary["ground_truth_mesh"] = run.mesh_note;
-  nlohmann::json counts = nlohmann::json::object();
-  for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
-  summary["counts"] = counts;
-  summary["stream_s"] = run.stream_span.seconds();
-  summary["runtime"] = runtime_json(run.runtime);
-  summary["ate_dr_m"] = opt_json(run.ate_dr_m);
-  summary["ate_slam_m"] = opt_json(run.ate_slam_m);
-  summary["digest"] = run.digest.overall;
-  if (Status st = write_json(out / "summary.json", summary); !st.ok()) return st;
-  return write_json(out / "digest.json", digest_to_json(run.digest));
 }
 
 Result<RunOutput> replay_file(const std::string& fixture_path, RunOptions options, bool progress) {

@@ -112,6 +112,8 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
                                const RunOptions& options, const std::optional<TriangleMesh>& mesh,
                                const mapping::FuseFn& fuse = {},
                                const std::function<void(Time)>& progress = {});
+// Named deterministic counts (pipeline and DR), in a fixed order.
+std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::PipelineCounts& c, const slam::DrCounts& dr);
 // metrics.json of one system (the outputs contract).
 nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s);
 // Writes the whole output directory (maps, metrics, trajectories, summary, digest).

@@ -1,5 +1,6 @@
 #include "core/mapping/submap.hpp"
 
+#include <algorithm>
 #include <cassert>
 
 namespace orthosonar::mapping {
@@ -10,7 +11,8 @@ void transform_append(const SE3& T, const std::vector<Eigen::Vector3f>& in,
   // 100 m, far below the 0.1 m voxel, and fast enough for every timestep.
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
-  out.reserve(out.size() + in.size());
+  // Grow geometrically (an exact reserve per call would copy the whole vector every step).
+  if (out.capacity() < out.size() + in.size()) out.reserve(std::max(2 * out.capacity(), out.size() + in.size()));
   for (const auto& p : in) out.push_back(R * p + t);
 }
 

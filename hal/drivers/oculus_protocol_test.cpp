@@ -77,6 +77,11 @@ TEST_CASE("real M1200d capture decodes with every header field checked", "[hal]"
   CHECK(s->bearings_rad.front() == Approx(-30.0 * M_PI / 180.0));
   CHECK(s->bearings_rad.back() == Approx(30.0 * M_PI / 180.0));
   CHECK(s->max_range_m() == Approx(1.998).epsilon(0.001));
+  // REP-103 mirror: SonarPing column c is the device's beam 255 - c, bearing negated.
+  CHECK(s->at(0, 0) == p.image[255]);
+  CHECK(s->at(0, 255) == p.image[0]);
+  CHECK(s->at(702, 10) == p.image[702u * 256u + 245u]);
+  CHECK(s->bearings_rad[3] == Approx(-p.bearings_centideg[252] / 100.0 * M_PI / 180.0));
 }
 
 TEST_CASE("truncated real capture is an error at every cut", "[hal]") {
@@ -104,7 +109,8 @@ TEST_CASE("ping results round-trip in V1 and V2 with gain and 16-bit data", "[ha
         REQUIRE(back.ok());
         CHECK(back->version == version);
         CHECK(back->row_gains == p.row_gains);
-        CHECK(back->image == s.image);
+        CHECK(back->image == p.image);  // wire order (mirrored w.r.t. SonarPing)
+        CHECK(back->image != s.image);
         auto s2 = to_sonar_ping(*back, SonarMount::kHorizontal, kPartM750d, s.stamp);
         REQUIRE(s2.ok());
         CHECK(s2->image == s.image);

@@ -98,13 +98,20 @@ Result<SonarPing> to_sonar_ping(const PingResult& p, SonarMount mount, uint16_t 
   s.range_resolution_m = p.range_resolution_m;
   s.frequency_hz = p.frequency_hz;
   s.gain_percent = p.fire.gain_percent;
-  s.bearings_rad.reserve(p.n_beams);
-  for (int16_t b : p.bearings_centideg)
-    s.bearings_rad.push_back(static_cast<double>(b) / 100.0 * std::numbers::pi / 180.0);
+  // The Oculus orders beams port to starboard with bearings growing to starboard; REP-103
+  // bearings grow to the left (h) / up (v). Mirror the columns and negate the bearings.
+  const size_t n = p.n_beams;
+  const size_t bpp = static_cast<size_t>(p.bytes_per_pixel());
+  s.bearings_rad.resize(n);
+  for (size_t c = 0; c < n; ++c)
+    s.bearings_rad[c] = -static_cast<double>(p.bearings_centideg[n - 1 - c]) / 100.0 * std::numbers::pi / 180.0;
   s.rows = p.n_ranges;
   s.cols = p.n_beams;
-  s.bytes_per_pixel = static_cast<uint8_t>(p.bytes_per_pixel());
-  s.image = p.image;
+  s.bytes_per_pixel = static_cast<uint8_t>(bpp);
+  s.image.resize(p.image.size());
+  for (size_t r = 0; r < p.n_ranges; ++r)
+    for (size_t c = 0; c < n; ++c)
+      for (size_t k = 0; k < bpp; ++k) s.image[(r * n + c) * bpp + k] = p.image[(r * n + (n - 1 - c)) * bpp + k];
   return s;
 }
 
@@ -126,12 +133,21 @@ PingResult ping_result_from(const SonarPing& s, int version, uint16_t src_device
   p.range_resolution_m = s.range_resolution_m;
   p.n_ranges = s.rows;
   p.n_beams = s.cols;
-  p.bearings_centideg.reserve(s.cols);
-  for (double b : s.bearings_rad) {
-    const double cd = std::round(b * 180.0 / std::numbers::pi * 100.0);
-    p.bearings_centideg.push_back(static_cast<int16_t>(std::fmax(-32768.0, std::fmin(32767.0, cd))));
+  // Inverse of to_sonar_ping(): back to the device's port-to-starboard beam order.
+  const size_t n = s.cols;
+  const size_t bpp = s.bytes_per_pixel == 2 ? 2 : 1;
+  p.bearings_centideg.resize(n);
+  for (size_t c = 0; c < n && c < s.bearings_rad.size(); ++c) {
+    const double cd = std::round(-s.bearings_rad[n - 1 - c] * 180.0 / std::numbers::pi * 100.0);
+    p.bearings_centideg[c] = static_cast<int16_t>(std::fmax(-32768.0, std::fmin(32767.0, cd)));
   }
-  p.image = s.image;
+  p.image.assign(s.image.size(), 0);
+  for (size_t r = 0; r < s.rows; ++r)
+    for (size_t c = 0; c < n; ++c)
+      for (size_t k = 0; k < bpp; ++k) {
+        const size_t from = (r * n + (n - 1 - c)) * bpp + k;
+        if (from < s.image.size()) p.image[(r * n + c) * bpp + k] = s.image[from];
+      }
   return p;
 }
 

@@ -37,7 +37,9 @@ class StreamParser {
 };
 
 // A decoded ping as a core event payload. Bearings from the ping's table (1/100 degree) to
-// radians; the part number comes from the status message or the configuration.
+// radians; the part number comes from the status message or the configuration. The device
+// orders beams port to starboard with bearings growing to starboard; SonarPing bearings grow
+// to the left (h) / up (v) (REP-103), so columns are mirrored and bearings negated.
 Result<SonarPing> to_sonar_ping(const PingResult& ping, SonarMount mount, uint16_t part_number, Time stamp);
 
 // The ping result a device would send for `ping` (emulator side). Bearings are rounded to

@@ -1,0 +1,71 @@
+// Driver decode throughput: the real M1200d capture through the Oculus stream parser and
+// SonarPing conversion, and a full-resolution synthetic M750d ping (512 beams x 600 ranges).
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+
+#include "hal/drivers/oculus_stream.hpp"
+#include "hal/drivers/vn100.hpp"
+
+using namespace orthosonar;
+using namespace orthosonar::hal::drivers;
+
+namespace {
+
+Bytes real_capture() {
+  const char* s = std::getenv("ORTHOSONAR_SHARED");
+  std::ifstream in(std::string(s ? s : "/work/shared") + "/fixtures/oculus/m1200d_one_ping_8bit.raw", std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+Bytes full_ping() {
+  SonarPing p;
+  p.rows = 600;
+  p.cols = 512;
+  p.range_resolution_m = 0.05;
+  for (int c = 0; c < 512; ++c) p.bearings_rad.push_back(-1.13 + 2.26 * c / 511.0);
+  p.image.resize(600u * 512u);
+  for (size_t i = 0; i < p.image.size(); ++i) p.image[i] = static_cast<uint8_t>(i * 31);
+  return oculus::encode_ping_result(oculus::ping_result_from(p, 2, 1));
+}
+
+void decode(benchmark::State& state, const Bytes& wire) {
+  if (wire.empty()) {
+    state.SkipWithError("no input");
+    return;
+  }
+  for (auto _ : state) {
+    oculus::StreamParser parser;
+    parser.push(wire);
+    auto m = parser.pop();
+    auto s = oculus::to_sonar_ping(std::get<oculus::PingResult>(*m), SonarMount::kHorizontal, kPartM750d, Time());
+    benchmark::DoNotOptimize(s);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(wire.size()));
+}
+
+void BM_OculusDecodeRealCapture(benchmark::State& state) { decode(state, real_capture()); }
+void BM_OculusDecodeFullPing512x600(benchmark::State& state) { decode(state, full_ping()); }
+
+void BM_Vn100Decode(benchmark::State& state) {
+  ImuReading r;
+  const Bytes one = vn100::encode_packet(vn100::message_from(r, Quat::Identity()));
+  Bytes wire;
+  for (int i = 0; i < 100; ++i) wire.insert(wire.end(), one.begin(), one.end());
+  for (auto _ : state) {
+    vn100::StreamParser p;
+    p.push(wire);
+    int n = 0;
+    while (auto m = p.pop()) n += vn100::to_imu_reading(*m, Quat::Identity(), Time()).ok();
+    benchmark::DoNotOptimize(n);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * 100);
+}
+
+}  // namespace
+
+BENCHMARK(BM_OculusDecodeRealCapture);
+BENCHMARK(BM_OculusDecodeFullPing512x600);
+BENCHMARK(BM_Vn100Decode);

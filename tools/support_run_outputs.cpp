@@ -1,0 +1,110 @@
+// The output directory of the outputs contract: per-system maps (PCD, PLY, OctoMap) and
+// metrics.json, keyframes.csv, TUM trajectories, scene mesh, summary.json and digest.json.
+#include <filesystem>
+#include <fstream>
+
+#include "hal/sim/mesh_io.hpp"
+#include "orthosonar/version.hpp"
+#include "replay/outputs/map_writers.hpp"
+#include "tools/support_pipeline.hpp"
+#include "tools/support_trajectory.hpp"
+
+namespace orthosonar::cli {
+
+// ---------------------------------------------------------------- outputs
+
+namespace {
+
+nlohmann::json runtime_json(const std::vector<std::pair<std::string, mapping::RuntimeStats>>& rt) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [name, s] : rt) j[name] = {{"mean_ms", s.mean_ms()}, {"sd_ms", s.sd_ms()}, {"count", s.count}};
+  return j;
+}
+
+nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+
+Status write_json(const std::filesystem::path& path, const nlohmann::json& j) {
+  std::ofstream f(path, std::ios::trunc);
+  if (!f) return Error{"cannot open '" + path.string() + "' for writing"};
+  f << j.dump(2) << "\n";
+  if (!f) return Error{"write failed for '" + path.string() + "'"};
+  return {};
+}
+
+}  // namespace
+
+nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s) {
+  nlohmann::json counts = nlohmann::json::object();
+  for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
+  counts["map_points"] = s.map_W.size();
+  return {{"system", s.name},
+          {"coverage_voxels", s.coverage_voxels},
+          {"mae_m", s.accuracy ? nlohmann::json(s.accuracy->mae_m) : nlohmann::json(nullptr)},
+          {"rmse_m", s.accuracy ? nlohmann::json(s.accuracy->rmse_m) : nlohmann::json(nullptr)},
+          {"ate_dr_m", opt_json(run.ate_dr_m)},
+          {"ate_slam_m", opt_json(run.ate_slam_m)},
+          {"runtime", runtime_json([&] {
+             auto rt = s.runtime;
+             for (const auto& p : run.runtime)
+               if (p.first == "fusion" || p.first == "slam_update") rt.push_back(p);
+             return rt;
+           }())},
+          {"counts", counts}};
+}
+
+Status write_run_outputs(const RunOutput& run, const RunOptions& options, const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  const fs::path out(out_dir);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) return Error{"cannot create '" + out_dir + "': " + ec.message()};
+  for (const auto& s : run.systems) {
+    const fs::path d = out / s.name;
+    fs::create_directories(d, ec);
+    if (ec) return Error{"cannot create '" + d.string() + "': " + ec.message()};
+    if (Status st = outputs::write_pcd((d / "map.pcd").string(), s.map_W); !st.ok()) return st;
+    if (Status st = outputs::write_ply((d / "map.ply").string(), s.map_W); !st.ok()) return st;
+    if (Status st = outputs::write_octomap((d / "map.bt").string(), s.map_W, options.config.octomap_resolution_m);
+        !st.ok())
+      return st;
+    if (Status st = write_json(d / "metrics.json", system_metrics_json(run, s)); !st.ok()) return st;
+  }
+  const auto& slam = run.pipeline->slam();
+  if (Status st = write_keyframe_table((out / "keyframes.csv").string(), slam); !st.ok()) return st;
+  if (Status st = write_tum((out / "traj_dr.tum").string(), keyframe_poses_dr(slam)); !st.ok()) return st;
+  if (Status st = write_tum((out / "traj_slam.tum").string(), keyframe_poses_slam(slam)); !st.ok()) return st;
+  if (!run.truth.empty()) {
+    std::vector<StampedPose> truth;
+    truth.reserve(run.truth.size());
+    for (const auto& t : run.truth) {
+      SE3 T = SE3::Identity();
+      T.linear() = t.q_W_V.normalized().toRotationMatrix();
+      T.translation() = t.p_W;
+      truth.push_back({t.stamp, T});
+    }
+    if (Status st = write_tum((out / "traj_truth.tum").string(), truth); !st.ok()) return st;
+  }
+  if (run.mesh)
+    if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
+
+  nlohmann::json summary;
+  nlohmann::json fixture = nlohmann::json::object();
+  for (const auto& [k, v] : run.metadata) fixture[k] = v;
+  summary["fixture"] = fixture;
+  summary["software_version"] = kVersion;
+  summary["config"] = config_to_json(options.config);
+  summary["systems"] = options.systems;
+  summary["ground_truth_mesh"] = run.mesh_note;
+  nlohmann::json counts = nlohmann::json::object();
+  for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
+  summary["counts"] = counts;
+  summary["stream_s"] = run.stream_span.seconds();
+  summary["runtime"] = runtime_json(run.runtime);
+  summary["ate_dr_m"] = opt_json(run.ate_dr_m);
+  summary["ate_slam_m"] = opt_json(run.ate_slam_m);
+  summary["digest"] = run.digest.overall;
+  if (Status st = write_json(out / "summary.json", summary); !st.ok()) return st;
+  return write_json(out / "digest.json", digest_to_json(run.digest));
+}
+
+}  // namespace orthosonar::cli
