@@ -71,3 +71,15 @@ function(orthosonar_finish_bench)
   target_link_libraries(orthosonar_bench PRIVATE ${libs} benchmark::benchmark)
   orthosonar_warnings(orthosonar_bench)
 endfunction()
+
+# Every orthosonar library target that exists (tools, golden and property tests link them all).
+function(orthosonar_all_libraries out_var)
+  set(libs "")
+  foreach(t orthosonar_core orthosonar_perception orthosonar_slam orthosonar_mapping orthosonar_inference
+      orthosonar_hal orthosonar_sim orthosonar_drivers orthosonar_replay orthosonar_outputs orthosonar_reports)
+    if(TARGET ${t})
+      list(APPEND libs ${t})
+    endif()
+  endforeach()
+  set(${out_var} ${libs} PARENT_SCOPE)
+endfunction()

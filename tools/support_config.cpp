@@ -58,6 +58,7 @@ Table cfar_table(perception::CfarConfig& c) {
           {"guard_cells", field(c.guard_cells)},
           {"pfa", field(c.pfa)},
           {"gate", field(c.gate)},
+          {"min_neighbours", field(c.min_neighbours)},
           {"method", [&c](const YAML::Node& n, const std::string& w) -> Status {
              const auto s = n.as<std::string>("");
              if (s == "soca") c.method = perception::CfarMethod::kSoca;
@@ -87,6 +88,7 @@ Table root_table(RunConfig& c) {
                       {"patch", field(f.patch)},
                       {"min_confidence", field(f.min_confidence)},
                       {"normalise_percentile", field(f.normalise_percentile)},
+                      {"rotate_v_patch", field(f.rotate_v_patch)},
                       {"T_V_h", pose_field(f.T_V_h)},
                       {"T_V_v", pose_field(f.T_V_v)},
                       {"cfar_h", nested([&f] { return cfar_table(f.cfar_h); })},
@@ -128,7 +130,8 @@ Table root_table(RunConfig& c) {
 
 nlohmann::json cfar_json(const perception::CfarConfig& c) {
   return {{"method", perception::to_string(c.method)}, {"window", perception::to_string(c.window)},
-          {"train_cells", c.train_cells}, {"guard_cells", c.guard_cells}, {"pfa", c.pfa}, {"gate", c.gate}};
+          {"train_cells", c.train_cells}, {"guard_cells", c.guard_cells}, {"pfa", c.pfa}, {"gate", c.gate},
+          {"min_neighbours", c.min_neighbours}};
 }
 
 }  // namespace
@@ -176,6 +179,7 @@ nlohmann::json config_to_json(const RunConfig& c) {
       {"threads", c.threads},
       {"fusion", {{"max_pair_dt_s", f.max_pair_dt_s}, {"overlap_deg", f.overlap_deg}, {"patch", f.patch},
                   {"min_confidence", f.min_confidence}, {"normalise_percentile", f.normalise_percentile},
+                  {"rotate_v_patch", f.rotate_v_patch},
                   {"T_V_h", pose6_string(f.T_V_h)}, {"T_V_v", pose6_string(f.T_V_v)},
                   {"cfar_h", cfar_json(f.cfar_h)}, {"cfar_v", cfar_json(f.cfar_v)}}},
       {"dr", {{"max_speed_mps", d.max_speed_mps}, {"hold_s", d.hold_s}}},

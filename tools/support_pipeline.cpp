@@ -157,8 +157,13 @@ Result<std::vector<std::unique_ptr<mapping::MappingSystem>>> make_systems(const 
       if (!f) return Error{"cannot open model '" + o.model_path + "'"};
       std::stringstream ss;
       ss << f.rdbuf();
-      auto s = inference::make_inference_system_from_model(inference::InferenceConfig{}, name == "inference_submap",
-                                                           ss.str());
+      // Torch's threads and seed are process-wide: set them explicitly, once, here in the
+      // tool (never hidden in a constructor). MC-dropout seeds derive from (seed, ping id).
+      inference::InferenceRuntime::configure(1, 0);
+      inference::InferenceConfig ic;
+      ic.seed = 0;
+      ic.T_V_h = o.config.pipeline.fusion.T_V_h;  // the extrinsics fusion uses
+      auto s = inference::make_inference_system_from_model(ic, name == "inference_submap", ss.str());
       if (!s.ok()) return Error{o.model_path + ": " + s.error().message};
       out.push_back(std::move(*s));
       continue;

@@ -9,22 +9,19 @@ namespace orthosonar::perception {
 namespace {
 
 // Keeps detections with at least `min_n` of their 8 neighbours detected (neighbours
-// counted in the unfiltered set). `dets` is row-major sorted: lookups by binary search.
-std::vector<Detection> filter_isolated(std::vector<Detection> dets, int min_n) {
+// counted in the unfiltered set), using a rows x cols occupancy mask.
+std::vector<Detection> filter_isolated(std::vector<Detection> dets, int min_n, int rows, int cols) {
   if (min_n <= 0 || dets.empty()) return dets;
-  auto less = [](const Detection& a, const Detection& b) {
-    return a.row != b.row ? a.row < b.row : a.col < b.col;
-  };
-  auto has = [&](int r, int c) {
-    return std::binary_search(dets.begin(), dets.end(), Detection{r, c, 0.0f}, less);
-  };
+  const size_t C = static_cast<size_t>(cols);
+  std::vector<uint8_t> mask(static_cast<size_t>(rows) * C, 0);
+  for (const Detection& d : dets) mask[static_cast<size_t>(d.row) * C + static_cast<size_t>(d.col)] = 1;
   std::vector<Detection> kept;
   for (const Detection& d : dets) {
     int n = 0;
-    for (int dr = -1; dr <= 1; ++dr)
-      for (int dc = -1; dc <= 1; ++dc)
-        if ((dr != 0 || dc != 0) && has(d.row + dr, d.col + dc)) ++n;
-    if (n >= min_n) kept.push_back(d);
+    for (int r = std::max(0, d.row - 1); r <= std::min(rows - 1, d.row + 1); ++r)
+      for (int c = std::max(0, d.col - 1); c <= std::min(cols - 1, d.col + 1); ++c)
+        n += mask[static_cast<size_t>(r) * C + static_cast<size_t>(c)];
+    if (n - 1 >= min_n) kept.push_back(d);  // minus the cell itself
   }
   return kept;
 }
@@ -163,7 +160,7 @@ std::vector<Detection> detect(const Pixel* img, int rows, int cols, const CfarCo
       if (hit) out.push_back({r, c, static_cast<float>(x)});
     }
   }
-  return filter_isolated(std::move(out), cfg.min_neighbours);
+  return filter_isolated(std::move(out), cfg.min_neighbours, rows, cols);
 }
 
 }  // namespace

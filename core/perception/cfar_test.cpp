@@ -168,3 +168,17 @@ TEST_CASE("CFAR alpha follows the paper formula", "[unit]") {
   CHECK(cfar_alpha(20, 0.1) == Approx(20.0 * (std::pow(0.1, -1.0 / 20.0) - 1.0)));
   CHECK(cfar_alpha(1, 0.5) == Approx(1.0));
 }
+
+TEST_CASE("min_neighbours removes isolated detections and keeps blobs", "[unit]") {
+  std::vector<float> img(60 * 60, 10.0f);
+  img[10 * 60 + 10] = 200.0f;  // isolated
+  for (int r = 30; r < 33; ++r)
+    for (int c = 40; c < 43; ++c) img[static_cast<size_t>(r * 60 + c)] = 200.0f;
+  CfarConfig cfg;
+  CHECK(cfar_detect(img.data(), 60, 60, cfg).size() == 10);
+  cfg.min_neighbours = 3;
+  const auto d = cfar_detect(img.data(), 60, 60, cfg);
+  REQUIRE(d.size() == 9);
+  CHECK(d.front().row == 30);
+  CHECK(d.front().col == 40);
+}
