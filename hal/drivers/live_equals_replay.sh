@@ -36,7 +36,8 @@ if (imu.reconnects < 1 || closed.length === 0) { console.log("FAIL: the IMU rest
 for (const d of r.devices) if (d.messages_malformed) { console.log("FAIL: malformed messages from " + d.name); process.exit(1); }
 '
 "$exe" inspect live.mcap >inspect.txt
-grep -A1 '/imu/data' inspect.txt | grep -Eq 'gap (0\.[1-9]|[1-9])' || { echo "FAIL: the IMU gap is not visible in the recording"; cat inspect.txt; exit 1; }
+# Every gap line of the /imu/data block (under load, small scheduling gaps may come first).
+awk '/^  \/imu\/data/{f=1;next} /^  \//{f=0} f && /gap (0\.[1-9]|[1-9])/{found=1} END{exit !found}' inspect.txt || { echo "FAIL: the IMU gap is not visible in the recording"; cat inspect.txt; exit 1; }
 
 # SIGINT ends a live run cleanly: outputs written, recording finalised, replay still equal.
 cleanup; emu_pid=""
