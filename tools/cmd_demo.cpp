@@ -98,7 +98,7 @@ int run_demo(const DemoOptions& o) {
     return 2;
   }
   print_table(*r);
-  std::cout << "digest " << r->digest.overall << "\n";
+  std::cout << "digest " << r->digest.overall_hex << "\n";
   // The review report. Without an X display (not run under xvfb-run) the 3D renders are
   // skipped and the HTML says so; every other part is still written.
   const std::string report_dir = (fs::path(o.out_dir) / "report").string();

@@ -136,7 +136,7 @@ int do_run(const std::string& path, const std::string& out_dir, int threads) {
   std::cout << "scenario " << s->name << " (" << s->scene << ", seed " << s->seed << ", " << s->duration_s << " s, "
             << s->resolution << ", " << threads << " thread(s))\n";
   print_metrics(scenario_metrics(*run));
-  std::cout << "digest: " << run->digest.overall << "\n";
+  std::cout << "digest: " << run->digest.overall_hex << "\n";
   return 0;
 }
 
@@ -148,9 +148,9 @@ bool matches(const Scenario& s, const RunOutput& run, std::ostream& out) {
     return false;
   }
   const std::string want = s.expected["digest"].as<std::string>();
-  if (want != run.digest.overall) {
+  if (want != run.digest.overall_hex) {
     ok = false;
-    out << "  digest differs: expected " << want << ", got " << run.digest.overall << "\n";
+    out << "  digest differs: expected " << want << ", got " << run.digest.overall_hex << "\n";
     const YAML::Node outs = s.expected["outputs"];
     for (const auto& [name, hash] : run.digest.outputs) {
       if (!outs[name]) out << "    new output " << name << "\n";
@@ -185,7 +185,7 @@ int do_check(const std::vector<std::string>& paths, int threads, int repeat) {
       std::ostringstream diff;
       const bool ok = matches(*s, *run, diff);
       std::cout << (ok ? "PASS " : "FAIL ") << s->name << " (threads " << threads << ", run " << r + 1 << "/" << repeat
-                << ") digest " << run->digest.overall << "\n" << diff.str();
+                << ") digest " << run->digest.overall_hex << "\n" << diff.str();
       if (!ok) ++failures;
     }
   }
@@ -209,7 +209,7 @@ Status write_expectations(const Scenario& s, const RunOutput& run) {
     << "rmse_abs_m" << YAML::Value << s.tol.rmse_abs_m << YAML::Key << "ate_abs_m" << YAML::Value << s.tol.ate_abs_m
     << YAML::EndMap;
   e << YAML::Key << "expected" << YAML::Value << YAML::BeginMap;
-  e << YAML::Key << "digest" << YAML::Value << run.digest.overall;
+  e << YAML::Key << "digest" << YAML::Value << run.digest.overall_hex;
   e << YAML::Key << "outputs" << YAML::Value << YAML::BeginMap;
   for (const auto& [k, v] : run.digest.outputs) e << YAML::Key << k << YAML::Value << v;
   e << YAML::EndMap;
@@ -239,8 +239,8 @@ int do_update(const std::vector<std::string>& paths) {
     auto run = run_scenario(*s, 1);
     if (!run) { std::cerr << "orthosonar golden: " << run.error().message << "\n"; return 2; }
     const std::string old = s->expected && s->expected["digest"] ? s->expected["digest"].as<std::string>() : "(none)";
-    std::cout << s->name << ": digest " << old << " -> " << run->digest.overall
-              << (old == run->digest.overall ? "  (unchanged)" : "  (CHANGED)") << "\n";
+    std::cout << s->name << ": digest " << old << " -> " << run->digest.overall_hex
+              << (old == run->digest.overall_hex ? "  (unchanged)" : "  (CHANGED)") << "\n";
     const auto now = scenario_metrics(*run);
     for (const auto& [k, v] : now) {
       const bool had = s->expected && s->expected["metrics"] && s->expected["metrics"][k];

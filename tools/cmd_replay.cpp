@@ -35,7 +35,7 @@ int run_replay(const ReplayArgs& a) {
               << (r->wall_s > 0 ? r->stream_span.seconds() / r->wall_s : 0.0) << "x real time); pairs "
               << r->counts.pairs << ", keyframes " << r->counts.keyframes << "; outputs in " << a.out_dir << "\n";
   }
-  std::cout << r->digest.overall << "\n";
+  std::cout << r->digest.overall_hex << "\n";
   return 0;
 }
 

@@ -164,7 +164,7 @@ int run_live(const RunArgs& a) {
     std::cerr << "; queue drops " << dropped << (a.record.empty() ? "" : "; recorded " + a.record) << "; outputs in "
               << a.out_dir << "\n";
   }
-  std::cout << result->digest.overall << "\n";
+  std::cout << result->digest.overall_hex << "\n";
   return 0;
 }
 

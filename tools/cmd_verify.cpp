@@ -19,7 +19,7 @@ struct VerifyArgs {
 };
 
 int run_verify(VerifyArgs a) {
-  auto expected = read_digest_file(a.expect);
+  auto expected = replay::read_digest_json(a.expect);
   if (!expected.ok()) {
     std::cerr << "orthosonar verify: " << expected.error().message << "\n";
     return 2;
@@ -47,12 +47,12 @@ int run_verify(VerifyArgs a) {
       std::cerr << "orthosonar verify: " << s.error().message << "\n";
       return 2;
     }
-  const auto diff = digest_differences(*expected, r->digest);
-  if (diff.empty() && expected->overall == r->digest.overall) {
-    std::cout << "identical: " << r->digest.overall << "\n";
+  const auto diff = replay::differing_outputs(*expected, r->digest);
+  if (diff.empty() && expected->overall_hex == r->digest.overall_hex) {
+    std::cout << "identical: " << r->digest.overall_hex << "\n";
     return 0;
   }
-  std::cout << "DIFFERENT: expected " << expected->overall << ", got " << r->digest.overall << "\n";
+  std::cout << "DIFFERENT: expected " << expected->overall_hex << ", got " << r->digest.overall_hex << "\n";
   for (const auto& name : diff) {
     const auto e = expected->outputs.find(name);
     const auto g = r->digest.outputs.find(name);

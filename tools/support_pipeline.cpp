@@ -87,35 +87,6 @@ double SteadyClock::now_ms() const {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// ---------------------------------------------------------------- digest
-
-std::string sha256_hex(const std::vector<uint8_t>& bytes) { return replay::sha256_hex(bytes.data(), bytes.size()); }
-
-DigestSet make_digest(const std::map<std::string, std::vector<uint8_t>>& canonical_outputs) {
-  replay::DigestBuilder b;
-  for (const auto& [name, bytes] : canonical_outputs) b.add(name, bytes);
-  const auto r = b.finish();
-  return {r.overall_hex, r.outputs};
-}
-
-nlohmann::json digest_to_json(const DigestSet& d) {
-  nlohmann::json j;
-  j["overall"] = d.overall;
-  j["outputs"] = nlohmann::json::object();
-  for (const auto& [k, v] : d.outputs) j["outputs"][k] = v;
-  return j;
-}
-
-Result<DigestSet> read_digest_file(const std::string& path) {
-  auto r = replay::read_digest_json(path);
-  if (!r.ok()) return r.error();
-  return DigestSet{r->overall_hex, r->outputs};
-}
-
-std::vector<std::string> digest_differences(const DigestSet& expected, const DigestSet& actual) {
-  return replay::differing_outputs({expected.overall, expected.outputs}, {actual.overall, actual.outputs});
-}
-
 // ---------------------------------------------------------------- setup
 
 void apply_mission_start(const std::map<std::string, std::string>& metadata, RunConfig& config) {
@@ -309,7 +280,9 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
     o.runtime = s->runtime();
     r.systems.push_back(std::move(o));
   }
-  r.digest = make_digest(canonical_outputs(r));
+  replay::DigestBuilder digest;
+  for (const auto& [name, bytes] : canonical_outputs(r)) digest.add(name, bytes);
+  r.digest = digest.finish();
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return r;
 }

@@ -19,6 +19,7 @@
 #include "core/mapping/pipeline.hpp"
 #include "core/mesh.hpp"
 #include "hal/event_source.hpp"
+#include "replay/digest.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_config.hpp"
 
@@ -51,18 +52,6 @@ class SteadyClock final : public mapping::StageClock {
   double now_ms() const override;
 };
 
-// Output digests: SHA-256 of each output's canonical little-endian bytes, and an overall
-// hash over (name, hash) in name order.
-struct DigestSet {
-  std::string overall;
-  std::map<std::string, std::string> outputs;
-};
-std::string sha256_hex(const std::vector<uint8_t>& bytes);
-DigestSet make_digest(const std::map<std::string, std::vector<uint8_t>>& canonical_outputs);
-nlohmann::json digest_to_json(const DigestSet& d);
-Result<DigestSet> read_digest_file(const std::string& path);
-// Names whose hashes differ, or that exist on one side only, sorted.
-std::vector<std::string> digest_differences(const DigestSet& expected, const DigestSet& actual);
 
 struct RunOptions {
   RunConfig config;
@@ -92,7 +81,7 @@ struct RunOutput {
   std::string mesh_note;    // where the mesh came from, or why there is none
   Time stream_span;         // last - first event stamp
   double wall_s = 0.0;
-  DigestSet digest;
+  replay::DigestResult digest;  // replay/digest.hpp: SHA-256 per output and overall
 };
 
 // The dead-reckoning start from the mission plan (the scene's first waypoint): fixtures

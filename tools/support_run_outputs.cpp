@@ -102,9 +102,9 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   summary["runtime"] = runtime_json(run.runtime);
   summary["ate_dr_m"] = opt_json(run.ate_dr_m);
   summary["ate_slam_m"] = opt_json(run.ate_slam_m);
-  summary["digest"] = run.digest.overall;
+  summary["digest"] = run.digest.overall_hex;
   if (Status st = write_json(out / "summary.json", summary); !st.ok()) return st;
-  return write_json(out / "digest.json", digest_to_json(run.digest));
+  return replay::write_digest_json((out / "digest.json").string(), run.digest);
 }
 
 }  // namespace orthosonar::cli

@@ -112,7 +112,7 @@ Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& opt
     for (const auto& [name, st] : s.runtime) cs.runtime.merge(st);
     c.systems.push_back(cs);
   }
-  c.digest = r->digest.overall;
+  c.digest = r->digest.overall_hex;
   c.wall_s = r->wall_s;
   return c;
 }
