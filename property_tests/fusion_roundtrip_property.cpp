@@ -9,7 +9,9 @@
 #include <numbers>
 
 #include "core/perception/fusion.hpp"
+#include "core/perception/synthetic_pings.hpp"
 #include "core/random.hpp"
+#include "property_tests/generators.hpp"
 
 using namespace orthosonar;
 
@@ -17,46 +19,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-double uniform(double lo, double hi) {
-  const int k = *rc::gen::inRange(0, 1000001);
-  return lo + (hi - lo) * (static_cast<double>(k) / 1000000.0);
-}
-
-// 240 bins x 256 beams over 130° with a denser centre (like the Oculus tables); a dark,
-// speckled background well under the CFAR gate.
-SonarPing background(SonarMount mount, uint64_t seed) {
-  SonarPing p;
-  p.mount = mount;
-  p.rows = 240;
-  p.cols = 256;
-  p.range_resolution_m = 0.05;
-  for (int c = 0; c < p.cols; ++c) {
-    const double u = -1.0 + 2.0 * (c + 0.5) / p.cols;
-    p.bearings_rad.push_back(65.0 * kDeg * (u + 0.3 * u * u * u) / 1.3);
-  }
-  Rng rng(seed);
-  p.image.resize(static_cast<size_t>(p.rows) * p.cols);
-  for (auto& x : p.image) x = static_cast<uint8_t>(std::min(40.0, rng.exponential(6.0)));
-  return p;
-}
-
-int nearest_col(const SonarPing& p, double angle) {
-  int best = 0;
-  for (int c = 1; c < p.cols; ++c)
-    if (std::abs(p.bearings_rad[static_cast<size_t>(c)] - angle) <
-        std::abs(p.bearings_rad[static_cast<size_t>(best)] - angle))
-      best = c;
-  return best;
-}
-
-// A 3x3 blob symmetric under a 90° rotation, at the pixel nearest (range, angle).
-void draw_target(SonarPing& p, double range_m, double angle_rad) {
-  const int row = static_cast<int>(std::lround(range_m / p.range_resolution_m)) - 1;
-  const int col = nearest_col(p, angle_rad);
-  for (int dr = -1; dr <= 1; ++dr)
-    for (int dc = -1; dc <= 1; ++dc)
-      p.image[static_cast<size_t>((row + dr) * p.cols + col + dc)] = (dr == 0 && dc == 0) ? 240 : 180;
-}
+using property::uniform;
 
 }  // namespace
 
@@ -74,10 +37,11 @@ TEST_CASE("Fusion round trip: a 3D point in the overlap fuses back to itself", "
     const double elevation_seen_by_v = std::atan2(p_v.y(), p_v.x());
 
     const uint64_t seed = static_cast<uint64_t>(*rc::gen::inRange(0, 1 << 30));
-    SonarPing h = background(SonarMount::kHorizontal, derive_seed(seed, 1));
-    SonarPing v = background(SonarMount::kVertical, derive_seed(seed, 2));
-    draw_target(h, range, theta);
-    draw_target(v, p_v.norm(), elevation_seen_by_v);
+    // 240 bins x 256 beams on a dark speckled background, well under the CFAR gate.
+    SonarPing h = perception::testing::speckle_ping(SonarMount::kHorizontal, 240, 256, derive_seed(seed, 1), 6.0, 40.0);
+    SonarPing v = perception::testing::speckle_ping(SonarMount::kVertical, 240, 256, derive_seed(seed, 2), 6.0, 40.0);
+    perception::testing::draw_blob(h, range, theta, 240, 180);
+    perception::testing::draw_blob(v, p_v.norm(), elevation_seen_by_v, 240, 180);
 
     const perception::FusionResult r = perception::fuse_pair(h, v, cfg);
     // The 3x3 blob gives up to three detections per range bin in each image, so up to a

@@ -7,16 +7,12 @@
 #include <numbers>
 
 #include "core/geometry.hpp"
+#include "property_tests/generators.hpp"
 
 using namespace orthosonar;
 
 namespace {
-// Doubles from integer draws: rapidcheck's own integers are deterministic per seed and
-// the mapping to a range is ours, so the distribution is what the test says it is.
-double uniform(double lo, double hi) {
-  const int k = *rc::gen::inRange(0, 1000001);
-  return lo + (hi - lo) * (static_cast<double>(k) / 1000000.0);
-}
+using property::uniform;
 SE2 any_se2() { return {uniform(-50, 50), uniform(-50, 50), uniform(-3.1, 3.1)}; }
 SE3 any_se3() {
   return se3_from_xyz_rpy(uniform(-50, 50), uniform(-50, 50), uniform(-20, 20), uniform(-1.4, 1.4),

@@ -5,56 +5,24 @@
 #include <numbers>
 
 #include "core/perception/fusion.hpp"
+#include "core/perception/synthetic_pings.hpp"
 #include "core/random.hpp"
 
 using namespace orthosonar;
 using namespace orthosonar::perception;
+using orthosonar::perception::testing::beam_width;
+using orthosonar::perception::testing::draw_blob;
+using orthosonar::perception::testing::nearest_col;
 
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// A reduced-resolution ping (200 bins x 128 beams over 130°) with a deliberately
-// non-uniform bearing table (denser at the centre, like the Oculus tables), and
-// exponential speckle of the given mean.
+// A reduced-resolution ping: 200 bins x 128 beams, exponential speckle of the given mean.
 SonarPing noise_ping(SonarMount mount, uint64_t seed, double mean) {
-  SonarPing p;
-  p.mount = mount;
-  p.rows = 200;
-  p.cols = 128;
-  p.range_resolution_m = 0.05;
-  for (int c = 0; c < p.cols; ++c) {
-    const double u = -1.0 + 2.0 * (c + 0.5) / p.cols;
-    p.bearings_rad.push_back(65.0 * kDeg * (u + 0.3 * u * u * u) / 1.3);
-  }
-  Rng rng(seed);
-  p.image.resize(static_cast<size_t>(p.rows) * p.cols);
-  for (auto& x : p.image) x = static_cast<uint8_t>(std::min(255.0, rng.exponential(mean)));
-  return p;
+  return testing::speckle_ping(mount, 200, 128, seed, mean);
 }
 
-int nearest_col(const SonarPing& p, double angle) {
-  int best = 0;
-  for (int c = 1; c < p.cols; ++c)
-    if (std::abs(p.bearings_rad[static_cast<size_t>(c)] - angle) <
-        std::abs(p.bearings_rad[static_cast<size_t>(best)] - angle))
-      best = c;
-  return best;
-}
-
-double beam_width(const SonarPing& p, int col) {
-  const int c = std::clamp(col, 1, p.cols - 1);
-  return std::abs(p.bearings_rad[static_cast<size_t>(c)] - p.bearings_rad[static_cast<size_t>(c - 1)]);
-}
-
-// An isotropic blob: centre `peak`, the 8 neighbours `ring` (symmetric under rot90).
-void blob(SonarPing& p, double range, double angle, uint8_t peak, uint8_t ring) {
-  const int row = static_cast<int>(std::lround(range / p.range_resolution_m)) - 1;
-  const int col = nearest_col(p, angle);
-  for (int dr = -1; dr <= 1; ++dr)
-    for (int dc = -1; dc <= 1; ++dc)
-      p.image[static_cast<size_t>((row + dr) * p.cols + col + dc)] = (dr == 0 && dc == 0) ? peak : ring;
-}
 
 struct Target {
   double range, theta, phi;
@@ -65,8 +33,8 @@ FusionResult render_and_fuse(const std::vector<Target>& targets, uint64_t seed,
   SonarPing h = noise_ping(SonarMount::kHorizontal, derive_seed(seed, 1), 6.0);
   SonarPing v = noise_ping(SonarMount::kVertical, derive_seed(seed, 2), 6.0);
   for (const Target& t : targets) {
-    blob(h, t.range, t.theta, 230, 170);
-    blob(v, t.range, t.phi, 230, 170);
+    draw_blob(h, t.range, t.theta, 230, 170);
+    draw_blob(v, t.range, t.phi, 230, 170);
   }
   return fuse_pair(h, v, cfg);
 }
@@ -116,10 +84,10 @@ TEST_CASE("Two targets at the same range are associated by patch cost", "[unit]"
   // Target A is a full bright blob, target B a single bright pixel: the patches differ.
   SonarPing h = noise_ping(SonarMount::kHorizontal, 21, 6.0);
   SonarPing v = noise_ping(SonarMount::kVertical, 22, 6.0);
-  blob(h, 5.0, -6.0 * kDeg, 230, 200);
-  blob(v, 5.0, 5.0 * kDeg, 230, 200);
-  blob(h, 5.0, 6.0 * kDeg, 230, 0);
-  blob(v, 5.0, -5.0 * kDeg, 230, 0);
+  draw_blob(h, 5.0, -6.0 * kDeg, 230, 200);
+  draw_blob(v, 5.0, 5.0 * kDeg, 230, 200);
+  draw_blob(h, 5.0, 6.0 * kDeg, 230, 0);
+  draw_blob(v, 5.0, -5.0 * kDeg, 230, 0);
   const FusionResult r = fuse_pair(h, v, FusionConfig{});
   REQUIRE_FALSE(r.points.empty());
   const double tol = 1.5 * beam_width(h, nearest_col(h, 6.0 * kDeg));
