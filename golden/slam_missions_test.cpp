@@ -46,6 +46,11 @@ slam::SlamConfig mission_slam_config() {
   // this writing) that left 0-10 points per keyframe (pilings are 1-3 voxels), later gave no
   // gain on marina1. 2 is sonar-SLAM's value (feature.yaml min_points). See docs/SLAM.md.
   c.outlier_min_neighbours = 2;
+  // These missions model a consumer-grade heading reference (above), so SSM runs as SPEC §5
+  // writes it: the DR factor (sonar-SLAM's noise) only where ICP fails. The defaults are
+  // matched to the simulator's default IMU instead (docs/SLAM.md "Noise models").
+  c.sigma_odometry = Eigen::Vector3d(0.2, 0.2, 0.02);
+  c.ssm_keep_dr_factor = false;
   return c;
 }
 

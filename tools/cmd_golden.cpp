@@ -1,17 +1,27 @@
 // `orthosonar golden`: golden scenarios (issue 8). A scenario file (golden/scenarios/*.yaml)
 // names a simulated mission and the pipeline settings, and holds what it is expected to
-// produce: the digest (per output and overall) and metrics with tolerances.
+// produce: the digest (per output and overall), metrics with tolerances, and one rendered
+// top view per mapping system (PNG beside the scenario: <dir>/<name>/<system>_top.png,
+// compared with reports::image_difference against `tolerances.image_difference`).
 //
 //   golden --run S.yaml [-o DIR] [--threads N]     simulate + map, print "digest: <hex>"
-//   golden --check S.yaml... [--threads N] [--repeat K]
+//   golden --check S.yaml... [--threads N] [--repeat K] [-o BASE] [--no-images]
 //                                                  exit 0 when every run matches, 1 when not
-//   golden --update [S.yaml...]                    rewrite expectations, print what changed
+//   golden --update [S.yaml...] [-o BASE] [--no-images]
+//                                                  rewrite expectations, print what changed
+//
+// Image checks render with VTK and need an X display: run under `xvfb-run -a` (ctest always
+// is). Without one the image check FAILS; only --no-images skips it (--update then keeps the
+// stored images). Each checked run writes its outputs, current renders and, on a
+// difference, a side-by-side comparison to BASE/<name>/threads<N>_run<K>/ (default BASE:
+// <tmp>/orthosonar_golden). See docs/VERIFICATION.md.
 //
 // The fixture is generated in-process by the simulator (deterministic from the seed), so a
 // scenario needs no stored recording.
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -20,17 +30,25 @@
 
 #include "hal/sim/scene.hpp"
 #include "hal/sim/simulator.hpp"
+#include "reports/image_compare.hpp"
+#include "reports/render.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_golden_images.hpp"
 #include "tools/support_pipeline.hpp"
 
 namespace orthosonar::cli {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct Tolerances {
   double coverage_rel = 0.0;   // relative change of coverage_voxels allowed
   double mae_abs_m = 0.0;
   double rmse_abs_m = 0.0;
   double ate_abs_m = 0.0;
+  // Largest reports::image_difference (0..1) between stored and current top view; absent
+  // in scenarios recorded before image expectations existed.
+  double image_difference = kDefaultImageDifference;
 };
 
 struct Scenario {
@@ -51,6 +69,9 @@ Result<Scenario> load_scenario(const std::string& path) {
   try {
     const YAML::Node n = YAML::LoadFile(path);
     s.name = n["name"].as<std::string>();
+    // The name becomes a directory (stored images, run outputs that are cleared per run).
+    if (s.name.empty() || s.name == "." || s.name == ".." || s.name.find('/') != std::string::npos)
+      return Error{path + ": name must be a plain file name, got '" + s.name + "'"};
     s.scene = n["scene"].as<std::string>();
     s.seed = n["seed"].as<uint64_t>();
     s.duration_s = n["duration_s"].as<double>();
@@ -61,6 +82,7 @@ Result<Scenario> load_scenario(const std::string& path) {
     const YAML::Node t = n["tolerances"];
     s.tol = {t["coverage_rel"].as<double>(), t["mae_abs_m"].as<double>(), t["rmse_abs_m"].as<double>(),
              t["ate_abs_m"].as<double>()};
+    if (t["image_difference"]) s.tol.image_difference = t["image_difference"].as<double>();
     if (n["expected"]) s.expected = n["expected"];
   } catch (const std::exception& e) {
     return Error{path + ": " + e.what()};
@@ -174,7 +196,87 @@ bool matches(const Scenario& s, const RunOutput& run, std::ostream& out) {
   return ok;
 }
 
-int do_check(const std::vector<std::string>& paths, int threads, int repeat) {
+// Scores with six decimals: the tolerance is small and scientific notation reads badly.
+std::string score_str(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6f", v);
+  return buf;
+}
+
+// Stored image paths are relative to the scenario file's directory.
+fs::path scenario_dir(const Scenario& s) { return fs::path(s.path).parent_path(); }
+
+// Writes the run's output directory (the output contract read by reports::load_run) and
+// renders one top view per system from it.
+Result<std::map<std::string, cv::Mat>> render_run_views(const Scenario& s, const RunOutput& run,
+                                                        const fs::path& run_dir) {
+  std::error_code ec;
+  fs::remove_all(run_dir, ec);  // no stale renders or comparisons from an earlier run
+  RunOptions o;
+  o.systems = s.systems;
+  if (auto st = write_run_outputs(run, o, run_dir.string()); !st) return st.error();
+  return render_golden_views(run_dir.string(), s.systems, s.name);
+}
+
+// Renders the run's top views and compares them with the stored PNGs; prints every
+// difference. A failed comparison writes <system>_top_comparison.png (stored | current)
+// into `run_dir`, beside the current render <system>_top.png.
+bool images_match(const Scenario& s, const RunOutput& run, const fs::path& run_dir, const Status& display,
+                  std::ostream& out) {
+  if (!display) {
+    out << "  image check FAILED for scenario " << s.name << ": " << display.error().message
+        << " (ctest runs under `xvfb-run -a`; pass --no-images to skip the image checks deliberately)\n";
+    return false;
+  }
+  const YAML::Node images = s.expected ? s.expected["images"] : YAML::Node();
+  if (!images) {
+    out << "  no image expectations recorded: run `xvfb-run -a orthosonar golden --update " << s.path << "`\n";
+    return false;
+  }
+  auto views = render_run_views(s, run, run_dir);
+  if (!views) {
+    out << "  image check FAILED for scenario " << s.name << ": " << views.error().message << "\n";
+    return false;
+  }
+  const double tol = s.tol.image_difference;
+  bool ok = true;
+  for (const auto& system : s.systems) {
+    const cv::Mat& current = views->at(system);
+    const fs::path current_path = run_dir / golden_image_name(system);
+    if (auto st = write_png(current_path.string(), current); !st) out << "  warning: " << st.error().message << "\n";
+    if (!images[system]) {
+      ok = false;
+      out << "  no image expectation for scenario " << s.name << ", system " << system
+          << ": run `xvfb-run -a orthosonar golden --update " << s.path << "`\n";
+      continue;
+    }
+    const fs::path stored_path = scenario_dir(s) / images[system].as<std::string>();
+    auto stored = read_png(stored_path.string());
+    if (!stored) {
+      ok = false;
+      out << "  image missing for scenario " << s.name << ", system " << system << ": " << stored.error().message << "\n";
+      continue;
+    }
+    const double d = reports::image_difference(*stored, current);
+    if (d <= tol) {
+      out << "  image " << system << ": difference " << score_str(d) << " <= tolerance " << score_str(tol) << "\n";
+      continue;
+    }
+    ok = false;
+    const fs::path comparison = run_dir / (system + "_top_comparison.png");
+    const auto st = write_png(comparison.string(), reports::side_by_side(*stored, "golden", current, "current"));
+    out << "  image differs: scenario " << s.name << ", system " << system << ": difference " << score_str(d)
+        << " > tolerance " << score_str(tol) << "\n"
+        << "    golden:       " << stored_path.string() << "\n"
+        << "    current:      " << current_path.string() << "\n"
+        << "    side by side: " << (st ? comparison.string() : "not written (" + st.error().message + ")") << "\n";
+  }
+  return ok;
+}
+
+int do_check(const std::vector<std::string>& paths, int threads, int repeat, bool images, const fs::path& out_base) {
+  // Asked once: without a display every image check fails with the same message.
+  const Status display = images ? reports::check_display() : Status::Ok();
   int failures = 0;
   for (const auto& path : paths) {
     auto s = load_scenario(path);
@@ -183,16 +285,23 @@ int do_check(const std::vector<std::string>& paths, int threads, int repeat) {
       auto run = run_scenario(*s, threads);
       if (!run) { std::cerr << "orthosonar golden: " << run.error().message << "\n"; return 2; }
       std::ostringstream diff;
-      const bool ok = matches(*s, *run, diff);
+      bool ok = matches(*s, *run, diff);
+      if (images) {
+        const fs::path run_dir =
+            out_base / s->name / ("threads" + std::to_string(threads) + "_run" + std::to_string(r + 1));
+        ok = images_match(*s, *run, run_dir, display, diff) && ok;
+      }
       std::cout << (ok ? "PASS " : "FAIL ") << s->name << " (threads " << threads << ", run " << r + 1 << "/" << repeat
-                << ") digest " << run->digest.overall_hex << "\n" << diff.str();
+                << ") digest " << run->digest.overall_hex << (images ? "" : " (image checks skipped: --no-images)")
+                << "\n" << diff.str();
       if (!ok) ++failures;
     }
   }
   return failures == 0 ? 0 : 1;
 }
 
-Status write_expectations(const Scenario& s, const RunOutput& run) {
+// `images`: system -> PNG path relative to the scenario's directory; empty writes none.
+Status write_expectations(const Scenario& s, const RunOutput& run, const std::map<std::string, std::string>& images) {
   YAML::Emitter e;
   e << YAML::Comment("Golden scenario. Expectations are written by `orthosonar golden --update`; review the diff.");
   e << YAML::BeginMap;
@@ -204,10 +313,17 @@ Status write_expectations(const Scenario& s, const RunOutput& run) {
   e << YAML::Key << "keyframes" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "distance_m"
     << YAML::Value << s.kf_distance_m << YAML::Key << "rotation_deg" << YAML::Value << s.kf_rotation_deg << YAML::EndMap;
   e << YAML::Key << "systems" << YAML::Value << YAML::Flow << s.systems;
+  // image_difference: the largest reports::image_difference between the stored and the
+  // current 480x360 top view. Measured (docs/VERIFICATION.md): two renders of the same map
+  // score exactly 0 (same process, separate processes and X servers, 1/2/4 threads);
+  // different maps of the same scene and system score 0.00103 (keyframe distance 2.5 m
+  // instead of 3) to 0.0174 (another seed); a flipped stored image ~0.13, a black one ~0.54.
+  // The default, kDefaultImageDifference = 0.0005, is half the smallest real change: any
+  // map change seen fails, renderer jitter up to ~180 pixels turned white passes.
   e << YAML::Key << "tolerances" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "coverage_rel"
     << YAML::Value << s.tol.coverage_rel << YAML::Key << "mae_abs_m" << YAML::Value << s.tol.mae_abs_m << YAML::Key
     << "rmse_abs_m" << YAML::Value << s.tol.rmse_abs_m << YAML::Key << "ate_abs_m" << YAML::Value << s.tol.ate_abs_m
-    << YAML::EndMap;
+    << YAML::Key << "image_difference" << YAML::Value << s.tol.image_difference << YAML::EndMap;
   e << YAML::Key << "expected" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "digest" << YAML::Value << run.digest.overall_hex;
   e << YAML::Key << "outputs" << YAML::Value << YAML::BeginMap;
@@ -219,7 +335,13 @@ Status write_expectations(const Scenario& s, const RunOutput& run) {
     num << std::setprecision(17) << v;
     e << YAML::Key << k << YAML::Value << num.str();
   }
-  e << YAML::EndMap << YAML::EndMap << YAML::EndMap;
+  e << YAML::EndMap;
+  if (!images.empty()) {
+    e << YAML::Key << "images" << YAML::Value << YAML::BeginMap;
+    for (const auto& [k, v] : images) e << YAML::Key << k << YAML::Value << v;
+    e << YAML::EndMap;
+  }
+  e << YAML::EndMap << YAML::EndMap;
   const std::string tmp = s.path + ".tmp";
   {
     std::ofstream f(tmp);
@@ -232,7 +354,45 @@ Status write_expectations(const Scenario& s, const RunOutput& run) {
   return {};
 }
 
-int do_update(const std::vector<std::string>& paths) {
+// Renders the new top views, prints each one's difference to the stored image, and writes
+// them beside the scenario. Returns system -> relative path for the YAML.
+Result<std::map<std::string, std::string>> update_images(const Scenario& s, const RunOutput& run,
+                                                         const fs::path& out_base) {
+  auto views = render_run_views(s, run, out_base / s.name / "update");
+  if (!views) return views.error();
+  const YAML::Node stored = s.expected ? s.expected["images"] : YAML::Node();
+  const double tol = s.tol.image_difference;
+  std::map<std::string, std::string> paths;
+  for (const auto& system : s.systems) {
+    const std::string rel = s.name + "/" + golden_image_name(system);
+    const cv::Mat& now = views->at(system);
+    std::cout << "  " << std::left << std::setw(26) << ("image " + system) << " ";
+    if (stored && stored[system]) {
+      const fs::path old_path = scenario_dir(s) / stored[system].as<std::string>();
+      if (auto old = read_png(old_path.string()); old) {
+        const double d = reports::image_difference(*old, now);
+        std::cout << "difference to stored " << score_str(d)
+                  << (d <= tol ? "  (unchanged within tolerance " : "  (CHANGED, tolerance ") << score_str(tol) << ")";
+      } else {
+        std::cout << "(stored image unreadable: " << old.error().message << ")";
+      }
+    } else {
+      std::cout << "(new)";
+    }
+    std::cout << " -> " << rel << "\n";
+    if (auto st = write_png((scenario_dir(s) / rel).string(), now); !st) return st.error();
+    paths[system] = rel;
+  }
+  return paths;
+}
+
+int do_update(const std::vector<std::string>& paths, bool images, const fs::path& out_base) {
+  if (images)
+    if (auto d = reports::check_display(); !d) {
+      std::cerr << "orthosonar golden: cannot record image expectations: " << d.error().message
+                << " (or pass --no-images to keep the stored images)\n";
+      return 2;
+    }
   for (const auto& path : paths) {
     auto s = load_scenario(path);
     if (!s) { std::cerr << "orthosonar golden: " << s.error().message << "\n"; return 2; }
@@ -248,7 +408,17 @@ int do_update(const std::vector<std::string>& paths) {
       if (!had || before != v)
         std::cout << "  " << std::left << std::setw(26) << k << " " << (had ? std::to_string(before) : "(new)") << " -> " << v << "\n";
     }
-    if (auto st = write_expectations(*s, *run); !st) {
+    std::map<std::string, std::string> image_paths;
+    if (images) {
+      auto written = update_images(*s, *run, out_base);
+      if (!written) { std::cerr << "orthosonar golden: " << s->name << ": " << written.error().message << "\n"; return 2; }
+      image_paths = std::move(*written);
+    } else if (s->expected && s->expected["images"]) {
+      // --no-images: the stored images stay the expectation, untouched.
+      for (const auto& kv : s->expected["images"]) image_paths[kv.first.as<std::string>()] = kv.second.as<std::string>();
+      std::cout << "  images kept as stored (--no-images)\n";
+    }
+    if (auto st = write_expectations(*s, *run, image_paths); !st) {
       std::cerr << "orthosonar golden: " << st.error().message << "\n";
       return 2;
     }
@@ -268,6 +438,7 @@ std::vector<std::string> default_scenarios() {
 struct GoldenArgs {
   std::string run;
   bool check = false, update = false;
+  bool no_images = false;
   std::vector<std::string> scenarios;
   std::string out_dir;
   int threads = 1;
@@ -281,21 +452,26 @@ int run_golden(GoldenArgs a) {
     std::cerr << "orthosonar golden: no scenarios given and none in golden/scenarios/ (run from the repository root)\n";
     return 2;
   }
-  if (a.update) return do_update(a.scenarios);
-  if (a.check) return do_check(a.scenarios, a.threads, a.repeat);
+  const fs::path out_base = a.out_dir.empty() ? fs::temp_directory_path() / "orthosonar_golden" : fs::path(a.out_dir);
+  if (a.update) return do_update(a.scenarios, !a.no_images, out_base);
+  if (a.check) return do_check(a.scenarios, a.threads, a.repeat, !a.no_images, out_base);
   std::cerr << "orthosonar golden: say --run S.yaml, --check or --update\n";
   return 2;
 }
 
 const bool registered = register_command(
-    {"golden", "Run, check or update golden scenarios (simulated missions with expected digests and metrics)",
+    {"golden", "Run, check or update golden scenarios (simulated missions with expected digests, metrics and images)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<GoldenArgs>();
        sub.add_option("--run", a->run, "Run one scenario and print its digest");
        sub.add_flag("--check", a->check, "Check scenarios against their expectations (exit 1 on a difference)");
        sub.add_flag("--update", a->update, "Regenerate expectations and print what changed");
+       sub.add_flag("--no-images", a->no_images,
+                    "Skip the rendered-image checks (--update: keep the stored images); normally run under xvfb-run -a");
        sub.add_option("scenarios", a->scenarios, "Scenario files (default: golden/scenarios/*.yaml)");
-       sub.add_option("-o,--out", a->out_dir, "With --run: write the run's outputs here");
+       sub.add_option("-o,--out", a->out_dir,
+                      "With --run: write the run's outputs here. With --check/--update: base directory of each run's "
+                      "outputs, renders and comparisons (default: <tmp>/orthosonar_golden)");
        sub.add_option("--threads", a->threads, "Fusion threads")->check(CLI::Range(1, 64));
        sub.add_option("--repeat", a->repeat, "With --check: runs per scenario")->check(CLI::Range(1, 100));
        return [a] { return run_golden(*a); };

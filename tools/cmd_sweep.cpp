@@ -1,7 +1,8 @@
 // `orthosonar sweep --scene S -o dir/`: the paper's experiment on one scene. Simulates one
 // fixture, fuses every pair once, then runs the 15 keyframe settings (distance 1-5 m x
 // rotation 30/60/90 deg) over both cores, each cell with every system; writes grid.json,
-// grid.csv and tables.md (the paper's coverage grid, Table II and Table III layouts).
+// grid.csv and tables.md (the paper's coverage grid, Table II and Table III layouts), then
+// the reference cell's full outputs and report/report.html (heat maps, maps, tables).
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "hal/fake_source.hpp"
+#include "reports/report.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_mission.hpp"
@@ -27,6 +29,7 @@ struct SweepArgs {
   std::string resolution = "full";
   uint64_t seed = 1;
   int threads = 2;
+  bool no_report = false;
   std::string fixture;  // use this fixture instead of simulating
   std::string sim_config;
   CommonRunArgs run;
@@ -102,6 +105,31 @@ int run_sweep(SweepArgs a) {
   const SweepReport report = make_sweep_report(*prepared, ok);
   if (Status s = write_sweep_outputs(report, a.out_dir); !s.ok()) return fail(s.error().message);
   std::cout << sweep_tables_markdown(report);
+
+  // The reference cell (SPEC §5 defaults: 3 m / 30 deg) replayed in full into the sweep
+  // directory (maps, metrics, trajectories, digest), so the report shows the maps beside
+  // the heat maps. Skipped with --no-report.
+  if (!a.no_report) {
+    RunOptions ref = *options;
+    ref.config.threads = threads;
+    ref.config.pipeline.slam.kf_distance_m = 3.0;
+    ref.config.pipeline.slam.kf_rotation_deg = 30.0;
+    auto run = replay_file(fixture, ref, false);
+    if (!run.ok()) return fail(run.error().message);
+    if (Status s = write_run_outputs(*run, ref, a.out_dir); !s.ok()) return fail(s.error().message);
+    const std::string report_dir = (fs::path(a.out_dir) / "report").string();
+    reports::ReportOptions ropt;
+    const auto scene_it = run->metadata.find("scene");
+    ropt.title = "orthosonar sweep: " + (scene_it != run->metadata.end() ? scene_it->second : a.scene);
+    Status rs = reports::write_report(a.out_dir, report_dir, ropt);
+    if (!rs.ok()) {
+      std::cerr << "sweep: report: " << rs.error().message << "; writing it without 3D renders\n";
+      ropt.require_renders = false;
+      rs = reports::write_report(a.out_dir, report_dir, ropt);
+    }
+    if (!rs.ok()) return fail("report: " + rs.error().message);
+    std::cerr << "sweep: report " << (fs::path(report_dir) / "report.html").string() << "\n";
+  }
   std::cerr << "sweep: outputs in " << a.out_dir << "\n";
   return 0;
 }
@@ -118,6 +146,8 @@ const bool registered = register_command(
        sub.add_option("--workers", a->threads, "Worker threads (cells in parallel)")->capture_default_str();
        sub.add_option("--fixture", a->fixture, "Use this fixture instead of simulating one");
        sub.add_option("--sim-config", a->sim_config, "Simulator config YAML (fields of SimConfig)");
+       sub.add_flag("--no-report", a->no_report,
+                    "Skip the reference-cell (3 m / 30 deg) outputs and report/report.html");
        add_run_options(sub, a->run);
        return [a] { return run_sweep(*a); };
      }});

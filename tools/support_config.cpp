@@ -37,6 +37,22 @@ Reader pose_field(SE3& target) {
   };
 }
 
+// A noise model "[sigma_x_m, sigma_y_m, sigma_theta_rad]", every entry > 0.
+Reader sigma_field(Eigen::Vector3d& target) {
+  return [&target](const YAML::Node& n, const std::string& where) -> Status {
+    if (!n.IsSequence() || n.size() != 3) return Error{"config: '" + where + "' must be [sigma_x_m, sigma_y_m, sigma_theta_rad]"};
+    Eigen::Vector3d v;
+    try {
+      for (int i = 0; i < 3; ++i) v[i] = n[static_cast<size_t>(i)].as<double>();
+    } catch (const YAML::Exception& e) {
+      return Error{"config: bad value for '" + where + "': " + e.what()};
+    }
+    if (!(v.array() > 0.0).all() || !v.allFinite()) return Error{"config: '" + where + "' entries must be finite and > 0"};
+    target = v;
+    return {};
+  };
+}
+
 Status apply(const YAML::Node& node, const Table& table, const std::string& prefix) {
   if (!node.IsMap()) return Error{"config: '" + (prefix.empty() ? std::string("<root>") : prefix) + "' must be a map"};
   for (const auto& kv : node) {
@@ -107,13 +123,18 @@ Table root_table(RunConfig& c) {
                       {"ssm_min_points", field(s.ssm_min_points)},
                       {"ssm_max_translation_m", field(s.ssm_max_translation_m)},
                       {"ssm_max_rotation_deg", field(s.ssm_max_rotation_deg)},
+                      {"ssm_keep_dr_factor", field(s.ssm_keep_dr_factor)},
                       {"nssm_min_separation", field(s.nssm_min_separation)},
+                      {"nssm_min_travel_m", field(s.nssm_min_travel_m)},
                       {"nssm_range_m", field(s.nssm_range_m)},
                       {"nssm_min_points", field(s.nssm_min_points)},
                       {"nssm_max_rmse_m", field(s.nssm_max_rmse_m)},
                       {"pcm_queue", field(s.pcm_queue)},
                       {"pcm_threshold", field(s.pcm_threshold)},
                       {"min_pcm", field(s.min_pcm)},
+                      {"sigma_prior", sigma_field(s.sigma_prior)},
+                      {"sigma_odometry", sigma_field(s.sigma_odometry)},
+                      {"sigma_icp", sigma_field(s.sigma_icp)},
                       {"icp", nested([&s] {
                          return Table{{"max_iterations", field(s.icp.max_iterations)},
                                       {"max_correspondence_m", field(s.icp.max_correspondence_m)},
@@ -187,10 +208,14 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"voxel_m", s.voxel_m}, {"outlier_radius_m", s.outlier_radius_m},
                 {"outlier_min_neighbours", s.outlier_min_neighbours}, {"ssm_target_frames", s.ssm_target_frames},
                 {"ssm_min_points", s.ssm_min_points}, {"ssm_max_translation_m", s.ssm_max_translation_m},
-                {"ssm_max_rotation_deg", s.ssm_max_rotation_deg}, {"nssm_min_separation", s.nssm_min_separation},
+                {"ssm_max_rotation_deg", s.ssm_max_rotation_deg}, {"ssm_keep_dr_factor", s.ssm_keep_dr_factor}, {"nssm_min_separation", s.nssm_min_separation},
+                {"nssm_min_travel_m", s.nssm_min_travel_m},
                 {"nssm_range_m", s.nssm_range_m}, {"nssm_min_points", s.nssm_min_points},
                 {"nssm_max_rmse_m", s.nssm_max_rmse_m}, {"pcm_queue", s.pcm_queue},
                 {"pcm_threshold", s.pcm_threshold}, {"min_pcm", s.min_pcm},
+                {"sigma_prior", {s.sigma_prior.x(), s.sigma_prior.y(), s.sigma_prior.z()}},
+                {"sigma_odometry", {s.sigma_odometry.x(), s.sigma_odometry.y(), s.sigma_odometry.z()}},
+                {"sigma_icp", {s.sigma_icp.x(), s.sigma_icp.y(), s.sigma_icp.z()}},
                 {"icp", {{"max_iterations", s.icp.max_iterations},
                          {"max_correspondence_m", s.icp.max_correspondence_m},
                          {"trim_fraction", s.icp.trim_fraction}}}}},

@@ -1,5 +1,6 @@
 #include "tools/support_sweep.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -53,6 +54,9 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
     p.fused[{h.stamp.ns(), v.stamp.ns()}] = std::move(keep);
     return r;
   });
+  const bool needs_h_images = std::any_of(options.systems.begin(), options.systems.end(), [](const std::string& s) {
+    return s == "inference" || s == "inference_submap";
+  });
   const auto wall0 = std::chrono::steady_clock::now();
   std::optional<Time> first;
   int64_t n = 0;
@@ -63,7 +67,10 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
     if (!first) first = e.event->stamp;
     pipeline.consume(*e.event);
     Event light = std::move(*e.event);
-    if (auto* ping = std::get_if<SonarPing>(&light.payload)) {
+    // Cells reuse the cached fusion, so images can go, except the horizontal ones when an
+    // inference system will crop them.
+    if (auto* ping = std::get_if<SonarPing>(&light.payload);
+        ping && !(needs_h_images && ping->mount == SonarMount::kHorizontal)) {
       ping->image.clear();
       ping->image.shrink_to_fit();
     }
@@ -184,7 +191,7 @@ std::string sweep_tables_markdown(const SweepReport& r) {
   }
   md << "\nRuntime in seconds (paper Table III layout; mean and SD).\n\n| Stage | Mean | SD | Count |\n|---|---|---|---|\n";
   auto row = [&](const std::string& label, const mapping::RuntimeStats& s) {
-    md << "| " << label << " | " << fmt("%.6f", s.mean_ms() / 1000.0) << " | " << fmt("%.6f", s.sd_ms() / 1000.0)
+    md << "| " << label << " | " << fmt("%.3g", s.mean_ms() / 1000.0) << " | " << fmt("%.3g", s.sd_ms() / 1000.0)
        << " | " << s.count << " |\n";
   };
   row("Orthogonal sensor fusion (one pair)", r.fusion_runtime);

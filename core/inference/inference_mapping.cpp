@@ -24,6 +24,7 @@ std::vector<Eigen::Vector3f> InferenceMapping::infer(const mapping::PairInput& p
   counts_.registration_failures += r.stats.registration_failures;
   counts_.bayes_updates += r.stats.bayes_updates;
   counts_.inferred_points += r.stats.inferred_points;
+  counts_.bad_images += r.stats.bad_image;
   cloud.insert(cloud.end(), r.inferred_V.begin(), r.inferred_V.end());
   return cloud;
 }

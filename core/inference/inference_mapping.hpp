@@ -29,6 +29,7 @@ struct InferenceCounts {
   size_t inferred_points = 0;
   size_t fused_points = 0;
   size_t dropped_pairs = 0;  // submapping: pairs before the first keyframe
+  size_t bad_images = 0;     // frames whose h image did not match its rows x cols
 };
 
 class InferenceMapping final : public mapping::MappingSystem {

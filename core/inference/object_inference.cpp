@@ -59,6 +59,10 @@ FrameResult ObjectInference::process(const SonarPing& h, const std::vector<Pixel
                                      const std::vector<FusedObservation>& fused) {
   FrameResult out;
   out.stats.detections = detections.size();
+  if (h.image.size() != static_cast<size_t>(h.rows) * h.cols * h.bytes_per_pixel) {
+    out.stats.bad_image = 1;  // no pixels to crop: nothing is inferred, and the caller sees why
+    return out;
+  }
   out.clusters = dbscan_clusters(detections, config_.dbscan);
   out.stats.clusters = out.clusters.size();
   if (out.clusters.empty()) return out;

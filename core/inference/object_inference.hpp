@@ -60,6 +60,7 @@ struct FrameStats {
   size_t registration_failures = 0;
   size_t bayes_updates = 0;
   size_t inferred_points = 0;
+  size_t bad_image = 0;              // 1: the ping's image does not match rows x cols (skipped)
 };
 
 struct FrameResult {

@@ -24,7 +24,7 @@ struct FusionConfig {
   double max_pair_dt_s = 0.1;           // pairing window (used by PingPairer users)
   double overlap_deg = 10.0;            // |θ| on h and |φ| on v must be within this
   int patch = 3;                        // side of the square patch (odd)
-  double min_confidence = 0.05;         // Eq. 6 threshold (see docs/PERCEPTION.md)
+  double min_confidence = 0.01;         // Eq. 6 threshold; SPEC 0.05, tuned on simulation (docs/PERCEPTION.md)
   double normalise_percentile = 0.99;   // per-image normaliser, clamped to 1 after
   bool rotate_v_patch = true;           // Eq. 5 compares ν_h with rot90(ν_v); false: ν_v as is
   SE3 T_V_h = default_T_V_h();

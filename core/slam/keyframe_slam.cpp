@@ -52,6 +52,10 @@ int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
   kf.T_W_V_slam = T_W_V_dr;
   kf.cloud_V = prepare_planar_cloud(
       planar_points_V, {config_.voxel_m, config_.outlier_radius_m, config_.outlier_min_neighbours});
+  path_m_.push_back(id == 0 ? 0.0
+                            : path_m_.back() + (T_W_V_dr.translation() - keyframes_.back().T_W_V_dr.translation())
+                                                   .head<2>()
+                                                   .norm());
   keyframes_.push_back(std::move(kf));
   if (id == 0) {
     const SE2 prior = se2_from_se3(T_W_V_dr);
@@ -125,8 +129,16 @@ void KeyframeSlam::sequential_match(int id) {
     }
   }
   poses_.push_back(poses_[static_cast<size_t>(prev)] * f.T_from_to);
+  const bool icp_accepted = f.kind == FactorKind::kSequentialIcp;
   sequential_factor_.push_back(static_cast<int>(factors_.size()));
   factors_.push_back(std::move(f));
+  if (icp_accepted && config_.ssm_keep_dr_factor) {
+    // DR and the sonar are independent measurements of the same motion: keep both, so a
+    // biased scan match (a wall seen end-on, a hull outline that changes with viewpoint)
+    // is weighed against DR instead of replacing it (docs/SLAM.md "SSM and DR together").
+    factors_.push_back({FactorKind::kOdometryDr, prev, id, T_dr, config_.sigma_odometry, true,
+                        "dead reckoning (beside icp)"});
+  }
 }
 
 void KeyframeSlam::loop_closure(int id) {
@@ -139,7 +151,12 @@ void KeyframeSlam::loop_closure(int id) {
   // Candidate keyframes: old enough and within sonar range, the nearest few (ties by id);
   // the anchor is the nearest.
   std::vector<std::pair<double, int>> near;
+  const double travelled = path_m_[static_cast<size_t>(id)];
   for (int k = 0; k <= newest_old; ++k) {
+    // Also far enough back along the path: with dense keyframes, min_separation keyframes
+    // can be a few metres of the same wall, and a "loop" there is a sequential match that
+    // slides along it (docs/SLAM.md).
+    if (travelled - path_m_[static_cast<size_t>(k)] < config_.nssm_min_travel_m) continue;
     const double d = (poses_[static_cast<size_t>(k)].translation() - sonar_W).norm();
     if (d <= config_.nssm_range_m) near.emplace_back(d, k);
   }

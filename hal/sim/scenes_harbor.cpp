@@ -125,8 +125,9 @@ Scene build_harbor(uint64_t seed) {
   a.scene.vehicle_depth_m = 3.0;
   a.scene.seafloor_depth_m = 10.0;
   // Along the sailing ship, round the pier head, along the cruiser, back farther out, home.
-  a.scene.route = {{-75, -24}, {-20, -24}, {-12, -37}, {5, -38},   {60, -34}, {100, -34}, {116, -45},
-                   {60, -49},  {5, -47},   {-14, -44}, {-32, -31}, {-70, -31}, {-75, -24}};
+  // Starts 30 m along the first leg, where the docks come into the overlap within seconds.
+  a.scene.route = {{-45, -24}, {-20, -24}, {-12, -37}, {5, -38},   {60, -34}, {100, -34}, {116, -45},
+                   {60, -49},  {5, -47},   {-14, -44}, {-32, -31}, {-70, -31}, {-75, -24}, {-45, -24}};
   a.seafloor(-130, 160, -85, 1, 0.5);
   Rng rng(derive_seed(seed, 0x484152424full));
   // The long quay: corrugated sheet piling along y = 0 with a concrete cap.
@@ -160,9 +161,13 @@ Scene build_aircraft(uint64_t seed) {
   a.scene.seed = seed;
   a.scene.vehicle_depth_m = 3.0;
   a.scene.seafloor_depth_m = 7.0;
-  // An outer orbit (about 30 m off), then an inner one (about 23 m off), back to the start.
-  a.scene.route = {{-32, -30}, {32, -30}, {32, 30},  {-32, 30},  {-32, -20}, {-24, -23},
-                   {24, -23},  {24, 23},  {-24, 23}, {-24, -23}, {-32, -30}};
+  // Four approach legs aimed at the aircraft (from the west, south, east and north), each
+  // from 34 m out to 18 m from its centre, joined by diagonal exits. A forward-looking
+  // pair sees an object in its +-10 deg overlap only while heading at it, so an orbit
+  // (the aircraft abeam, outside the 130 deg fan) would give fusion almost nothing. The
+  // approaches stop short of the wing tips (|y| <= 15.5 m) and of the tail fins, which
+  // rise above the vehicle's 3 m depth.
+  a.scene.route = {{-34, 0}, {-18, 0}, {0, -34}, {0, -18}, {34, 0}, {18, 0}, {0, 34}, {0, 19}, {-34, 0}};
   a.seafloor(-75, 75, -75, 75, 0.25);
   Rng rng(derive_seed(seed, 0x4149524352ull));
   const double yaw = 25.0 * kDeg + rng.uniform(-0.05, 0.05);

@@ -61,7 +61,9 @@ Scene build_marina1(uint64_t seed) {
   a.scene.vehicle_depth_m = 3.0;
   a.scene.seafloor_depth_m = 8.0;
   // Two lanes between three dock lines, closed by turns at both ends (one lap ~ 200 m).
-  a.scene.route = {{-42, 9}, {38, 9}, {47, 0}, {38, -9}, {-38, -9}, {-47, 0}, {-42, 9}};
+  // Starts 18 m before the east turn, so even a one-minute mission sees the end docks
+  // head-on (the pilings along the sides stay abeam, outside the +-10 deg overlap).
+  a.scene.route = {{20, 9}, {38, 9}, {47, 0}, {38, -9}, {-38, -9}, {-47, 0}, {-42, 9}, {20, 9}};
   a.seafloor(-65, 65, -50, 50, 0.4);
   Rng rng(derive_seed(seed, 0x4d41524931ull));
   const std::vector<double> fingers = {-30, -20, -10, 0, 10, 20, 30};
@@ -85,7 +87,8 @@ Scene build_marina2(uint64_t seed) {
   a.scene.vehicle_depth_m = 2.5;
   a.scene.seafloor_depth_m = 7.0;
   // Along the dolphins, up the east side, along the seawall, down the west wall.
-  a.scene.route = {{-45, 4}, {42, 4}, {47, 18}, {42, 29}, {-40, 29}, {-47, 18}, {-45, 4}};
+  // Starts 22 m before the east turn (see marina1).
+  a.scene.route = {{20, 4}, {42, 4}, {47, 18}, {42, 29}, {-40, 29}, {-47, 18}, {-45, 4}, {20, 4}};
   a.seafloor(-70, 70, -25, 37, 0.3);
   Rng rng(derive_seed(seed, 0x4d41524932ull));
   // Corrugated sheet-pile seawall along y = 36 and a return wall along x = -55, with cap beams.

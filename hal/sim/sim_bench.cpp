@@ -2,6 +2,11 @@
 // the harbor scene, and a whole reduced-resolution mission.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+#include "core/perception/fusion.hpp"
 #include "hal/sim/simulator.hpp"
 
 namespace orthosonar::sim {
@@ -40,6 +45,38 @@ void BM_SimReducedHarbor60s(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_SimReducedHarbor60s)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// Fusion of one full-resolution pair (both CFARs + association, SPEC defaults) on pings the
+// simulator rendered along the harbor route (one pair every 15 s of a 300 s mission): the
+// realistic counterpart of core/perception's synthetic BM_FusePair512x600.
+void BM_FuseSimulatedPairHarbor(benchmark::State& state) {
+  const Scene scene = *builtin_scene("harbor", 1);
+  SimConfig cfg;
+  const SonarRenderer renderer(scene.mesh, cfg.sonar, Resolution::kFull, 1);
+  const Trajectory traj(scene.route, scene.vehicle_depth_m, cfg.vehicle, Time::from_s(300));
+  std::vector<std::pair<SonarPing, SonarPing>> pairs;
+  for (uint32_t k = 0; k < 20; ++k) {
+    const Time t = Time::from_s(15 * static_cast<int64_t>(k));
+    const SE3 T_W_V = traj.at(t).T_W_V();
+    pairs.emplace_back(renderer.render(T_W_V * cfg.T_V_h, SonarMount::kHorizontal, t, k).ping,
+                       renderer.render(T_W_V * cfg.T_V_v, SonarMount::kVertical, t, k).ping);
+  }
+  perception::FusionConfig fc;
+  fc.T_V_h = cfg.T_V_h;
+  fc.T_V_v = cfg.T_V_v;
+  size_t i = 0, det = 0, points = 0;
+  for (auto _ : state) {
+    const auto& [h, v] = pairs[i++ % pairs.size()];
+    const perception::FusionResult r = perception::fuse_pair(h, v, fc);
+    det += r.detections_h.size() + r.detections_v.size();
+    points += r.points.size();
+    benchmark::DoNotOptimize(r.points.data());
+  }
+  const double n = static_cast<double>(std::max<size_t>(i, 1));
+  state.counters["detections_per_pair"] = static_cast<double>(det) / n;
+  state.counters["points_per_pair"] = static_cast<double>(points) / n;
+}
+BENCHMARK(BM_FuseSimulatedPairHarbor)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 
 }  // namespace
 }  // namespace orthosonar::sim

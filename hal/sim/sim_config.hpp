@@ -35,7 +35,7 @@ struct SonarModelConfig {
   std::array<double, kSemanticClassCount> reflectivity = {0.0, 0.35, 0.9, 0.8, 0.85,
                                                           0.95, 0.75, 1.0, 0.6};
   int speckle_looks = 2;               // multiplicative speckle: Gamma(L, 1/L), mean 1
-  double noise_floor = 0.0015;         // additive noise (linear units, exponential intensity)
+  double noise_floor = 0.0003;         // additive noise (linear units, exponential intensity); docs/SCENES.md "Calibration"
   double tvg_exponent = 2.0;           // time-varied gain r^q (q = p: range-independent targets)
   double tvg_reference_m = 10.0;       // range where the TVG is 1
   double gain = 12.0;                  // linear gain before quantisation
