@@ -3,6 +3,7 @@
 // and 2 threads gives one digest; verify accepts it and rejects a tampered digest naming
 // the output; the output directory follows the outputs contract.
 #include <catch2/catch.hpp>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -14,9 +15,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Each test case runs as its own ctest process, possibly in parallel with the others, so
+// each gets its own directory (and its own fixture) under golden_mapping/.
 fs::path test_dir() {
   const char* env = std::getenv("ORTHOSONAR_TEST_OUT");
-  fs::path d = fs::path(env ? env : fs::temp_directory_path().string()) / "golden_mapping";
+  std::string name = Catch::getResultCapture().getCurrentTestName();
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  fs::path d = fs::path(env ? env : fs::temp_directory_path().string()) / "golden_mapping" / name;
   fs::create_directories(d);
   return d;
 }

@@ -82,8 +82,11 @@ int run_simulate(const SimulateArgs& a) {
   }
   sim::Simulator simulator(std::move(*scene), cfg);
   std::unique_ptr<replay::FixtureWriter> writer;
+  // Written as <out>.partial and renamed when complete, so a reader never sees a fixture
+  // that is still being written (or the half of one an interrupted run left).
+  const std::string partial = a.out + ".partial";
   if (!a.out.empty()) {
-    auto w = replay::FixtureWriter::open(a.out, simulator.metadata());
+    auto w = replay::FixtureWriter::open(partial, simulator.metadata());
     if (!w) return fail(w.error().message);
     writer = std::move(*w);
   }
@@ -118,6 +121,9 @@ int run_simulate(const SimulateArgs& a) {
   }
   if (writer) {
     if (Status s = writer->close(); !s) return fail(s.error().message);
+    std::error_code ec;
+    std::filesystem::rename(partial, a.out, ec);
+    if (ec) return fail("cannot rename '" + partial + "' to '" + a.out + "': " + ec.message());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!a.quiet) {

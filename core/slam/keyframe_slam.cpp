@@ -115,8 +115,15 @@ void KeyframeSlam::sequential_match(int id) {
   } else {
     const IcpResult icp = icp_2d(source, target, T_dr, config_.icp);
     const SE2 diff = T_dr.inverse() * icp.T_target_source;
-    const bool close = std::hypot(diff.x, diff.y) <= config_.ssm_max_translation_m &&
-                       std::abs(diff.theta) <= config_.ssm_max_rotation_deg * kDegToRad;
+    bool close = std::hypot(diff.x, diff.y) <= config_.ssm_max_translation_m &&
+                 std::abs(diff.theta) <= config_.ssm_max_rotation_deg * kDegToRad;
+    if (close && config_.ssm_max_mahalanobis > 0.0) {
+      // ICP and DR measure the same motion: a disagreement beyond their joint noise is a
+      // scan-match failure (a slide along a wall, a viewpoint-dependent outline).
+      const Eigen::Vector3d var = config_.sigma_odometry.cwiseAbs2() + config_.sigma_icp.cwiseAbs2();
+      const double m2 = diff.x * diff.x / var.x() + diff.y * diff.y / var.y() + diff.theta * diff.theta / var.z();
+      close = m2 <= config_.ssm_max_mahalanobis;
+    }
     if (icp.converged && close) {
       f = {FactorKind::kSequentialIcp, prev, id, icp.T_target_source, config_.sigma_icp, true,
            "icp converged"};
@@ -177,7 +184,7 @@ void KeyframeSlam::loop_closure(int id) {
   const auto source = seen_from(cur.cloud_V, T_W_new, ids);
   if (target.size() < config_.nssm_min_points || source.size() < config_.nssm_min_points) return;
   const IcpResult icp = icp_2d(source, target, T_anchor_new, config_.icp);
-  Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source, config_.sigma_icp, false, ""};
+  Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source, config_.sigma_loop, false, ""};
   if (!icp.converged) {
     f.reason = "icp not converged";
   } else if (icp.rmse > config_.nssm_max_rmse_m) {

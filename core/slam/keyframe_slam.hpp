@@ -39,6 +39,10 @@ struct SlamConfig {
   // SPEC §5 adds the DR odometry factor only when ICP is rejected; true also keeps it beside
   // an accepted ICP factor (a deviation, docs/SLAM.md): DR is an independent measurement.
   bool ssm_keep_dr_factor = true;
+  // Addition: reject an ICP result whose squared Mahalanobis distance from DR (joint noise
+  // sigma_odometry^2 + sigma_icp^2) exceeds this (chi-square 0.99, 3 dof, as PCM); 0 = off
+  // (SPEC: only the 3 m / 30 deg gate).
+  double ssm_max_mahalanobis = 11.34;
   // Loop closures.
   int nssm_min_separation = 8;        // keyframes older than the newest by at least this
   double nssm_min_travel_m = 20.0;    // ...and at least this far back along the DR path (addition)
@@ -61,6 +65,9 @@ struct SlamConfig {
   // one keyframe interval (docs/SLAM.md "Noise models").
   Eigen::Vector3d sigma_odometry{0.05, 0.05, 0.005};
   Eigen::Vector3d sigma_icp{0.1, 0.1, 0.01};
+  // Loop-closure factors (SPEC: the ICP noise above). A loop match between views minutes
+  // apart is less certain than a sequential one (docs/SLAM.md "Noise models").
+  Eigen::Vector3d sigma_loop{0.5, 0.5, 0.05};
   PoseGraphConfig solver;
 };
 
