@@ -136,6 +136,10 @@ Result<std::vector<std::unique_ptr<mapping::MappingSystem>>> make_systems(const 
       ic.T_V_h = o.config.pipeline.fusion.T_V_h;  // the extrinsics fusion uses
       auto s = inference::make_inference_system_from_model(ic, name == "inference_submap", ss.str());
       if (!s.ok()) return Error{o.model_path + ": " + s.error().message};
+      if (auto* im = dynamic_cast<inference::InferenceMapping*>(s->get()); im && name == "inference_submap") {
+        im->record_frames_to(o.inference_record);
+        im->replay_frames_from(o.inference_replay);
+      }
       out.push_back(std::move(*s));
       continue;
     }
@@ -233,7 +237,12 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
   r.pipeline->set_executor(&pool);
   r.pipeline->set_clock(&clock);
   if (fuse) r.pipeline->set_fusion(fuse);
-  for (auto& s : *systems) r.pipeline->add_system(std::move(s));
+  std::vector<const inference::InferenceMapping*> cached;
+  for (auto& s : *systems) {
+    if (const auto* im = dynamic_cast<const inference::InferenceMapping*>(s.get()); im && options.inference_replay)
+      cached.push_back(im);
+    r.pipeline->add_system(std::move(s));
+  }
 
   const auto wall0 = std::chrono::steady_clock::now();
   std::optional<Time> first, last;
@@ -255,6 +264,10 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
   }
   r.pipeline->finish();
   r.stream_span = first ? (*last - *first) : Time();
+  for (const auto* im : cached)
+    if (im->cache_misses() > 0)
+      return Error{"inference cache: " + std::to_string(im->cache_misses()) + " pair(s) of " + source.describe() +
+                   " were not in the cache the preparation pass filled"};
 
   r.counts = r.pipeline->counts();
   r.truth = r.pipeline->truth();

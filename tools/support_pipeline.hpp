@@ -23,6 +23,10 @@
 #include "tools/cli.hpp"
 #include "tools/support_config.hpp"
 
+namespace orthosonar::inference {
+struct InferenceFrameCache;
+}  // namespace orthosonar::inference
+
 namespace orthosonar::cli {
 
 // Runs tasks on N threads (the caller's thread is one of them). N = 1 runs inline.
@@ -59,6 +63,10 @@ struct RunOptions {
   double rate = 0.0;        // > 0: pace the replay at R x sensor time (changes no output)
   std::string mesh_path;    // ground-truth mesh file; empty: from the fixture's scene
   std::string model_path;   // classifier model for the inference systems
+  // Sweeps: fill / reuse the per-pair clouds of inference_submap (core/inference
+  // InferenceFrameCache). Not owned; must outlive the run.
+  inference::InferenceFrameCache* inference_record = nullptr;
+  const inference::InferenceFrameCache* inference_replay = nullptr;
 };
 
 struct SystemOutput {

@@ -1,5 +1,7 @@
 #include "tools/support_sweep.hpp"
 
+#include "core/inference/inference_mapping.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -82,6 +84,25 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
   pipeline.finish();
   for (const auto& [name, s] : pipeline.runtime())
     if (name == "fusion") p.fusion_runtime = s;
+  if (std::find(options.systems.begin(), options.systems.end(), "inference_submap") != options.systems.end()) {
+    // One inference_submap pass over the stream, fusion from the cache, recording clouds.
+    RunOptions once = options;
+    once.systems = {"inference_submap"};
+    once.config.threads = 1;
+    p.inference_cache = std::make_shared<inference::InferenceFrameCache>();
+    once.inference_record = p.inference_cache.get();
+    hal::FakeSource source(p.events);
+    const auto& cache = p.fused;
+    mapping::FuseFn fuse = [&cache](const SonarPing& h, const SonarPing& v) {
+      const auto it = cache.find({h.stamp.ns(), v.stamp.ns()});
+      return it == cache.end() ? perception::FusionResult{} : *it->second;
+    };
+    auto r = run_pipeline(source, p.metadata, once, p.mesh, fuse);
+    if (!r.ok()) return Error{"inference pass: " + r.error().message};
+    for (const auto& s : r->systems)
+      for (const auto& [name, st] : s.runtime)
+        if (name == "inference_per_frame") p.inference_runtime = st;
+  }
   p.fuse_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return p;
 }
@@ -98,6 +119,7 @@ Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& opt
     const auto it = cache.find({h.stamp.ns(), v.stamp.ns()});
     return it == cache.end() ? perception::FusionResult{} : *it->second;
   };
+  options.inference_replay = prepared.inference_cache.get();
   auto r = run_pipeline(source, prepared.metadata, options, prepared.mesh, fuse);
   if (!r.ok()) return r.error();
   CellResult c;
@@ -131,6 +153,7 @@ SweepReport make_sweep_report(const PreparedSweep& prepared, std::vector<CellRes
   r.scene = it == prepared.metadata.end() ? "?" : it->second;
   r.cells = std::move(cells);
   r.fusion_runtime = prepared.fusion_runtime;
+  r.inference_runtime = prepared.inference_runtime;
   r.stream_s = prepared.stream_s;
   r.fuse_wall_s = prepared.fuse_wall_s;
   return r;
@@ -195,6 +218,7 @@ std::string sweep_tables_markdown(const SweepReport& r) {
        << " | " << s.count << " |\n";
   };
   row("Orthogonal sensor fusion (one pair)", r.fusion_runtime);
+  if (r.inference_runtime.count > 0) row("Mapping inference (one frame, every pair once)", r.inference_runtime);
   for (const auto& name : names) {
     mapping::RuntimeStats s;
     for (const auto& c : r.cells)
@@ -240,6 +264,10 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
     }
   j["runtime"] = {{"fusion", {{"mean_ms", r.fusion_runtime.mean_ms()}, {"sd_ms", r.fusion_runtime.sd_ms()},
                               {"count", r.fusion_runtime.count}}}};
+  if (r.inference_runtime.count > 0)
+    j["runtime"]["inference_per_frame"] = {{"mean_ms", r.inference_runtime.mean_ms()},
+                                           {"sd_ms", r.inference_runtime.sd_ms()},
+                                           {"count", r.inference_runtime.count}};
   const fs::path out(out_dir);
   auto write = [](const fs::path& p, const std::string& text) -> Status {
     std::ofstream f(p, std::ios::trunc);

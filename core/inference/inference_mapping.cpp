@@ -8,6 +8,18 @@ InferenceMapping::InferenceMapping(const InferenceConfig& config, Classifier cla
     : inference_(config, std::move(classifier)), submapping_(submapping) {}
 
 std::vector<Eigen::Vector3f> InferenceMapping::infer(const mapping::PairInput& pair) {
+  if (replay_ != nullptr && submapping_) {
+    const auto it = replay_->clouds.find(pair.stamp.ns());
+    if (it != replay_->clouds.end()) return it->second;
+    ++cache_misses_;
+    return {};
+  }
+  std::vector<Eigen::Vector3f> cloud = infer_uncached(pair);
+  if (record_ != nullptr && submapping_) record_->clouds[pair.stamp.ns()] = cloud;
+  return cloud;
+}
+
+std::vector<Eigen::Vector3f> InferenceMapping::infer_uncached(const mapping::PairInput& pair) {
   std::vector<Eigen::Vector3f> cloud;
   for (const auto& p : pair.fused->points) cloud.push_back(p.p_V);
   counts_.fused_points += cloud.size();

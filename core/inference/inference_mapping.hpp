@@ -7,6 +7,7 @@
 //    and the map is ∪ T_W_k S_k, exactly like submapping.
 // Both keep one ObjectInference (classifier + per-class height models). Runtime stages:
 // "inference_per_frame" (one call of ObjectInference::process) and "map_update".
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +33,13 @@ struct InferenceCounts {
   size_t bad_images = 0;     // frames whose h image did not match its rows x cols
 };
 
+// Fused + inferred points per pair (V frame), keyed by the pair's stamp in ns. In submapping
+// mode every pair is inferred in stamp order whatever the keyframe setting, so one pass
+// can fill this and every cell of a sweep can reuse it (tools/support_sweep.cpp).
+struct InferenceFrameCache {
+  std::map<int64_t, std::vector<Eigen::Vector3f>> clouds;
+};
+
 class InferenceMapping final : public mapping::MappingSystem {
  public:
   InferenceMapping(const InferenceConfig& config, Classifier classifier, bool submapping);
@@ -43,11 +51,18 @@ class InferenceMapping final : public mapping::MappingSystem {
   std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime() const override;
   void set_clock(const mapping::StageClock* clock) override { clock_ = clock; }
   const InferenceCounts& counts() const { return counts_; }
+  // Submapping mode only. record: every inferred pair's cloud is also written to `cache`.
+  // replay: clouds come from `cache` (a pair missing there is an error, reported by
+  // cache_misses()), and the classifier is not run. The cache must outlive the system.
+  void record_frames_to(InferenceFrameCache* cache) { record_ = cache; }
+  void replay_frames_from(const InferenceFrameCache* cache) { replay_ = cache; }
+  size_t cache_misses() const { return cache_misses_; }
   const ObjectInference& inference() const { return inference_; }
 
  private:
   // Fused + inferred points of one pair, in V.
-  std::vector<Eigen::Vector3f> infer(const mapping::PairInput& pair);
+  std::vector<Eigen::Vector3f> infer(const mapping::PairInput& pair);  // through the cache, if any
+  std::vector<Eigen::Vector3f> infer_uncached(const mapping::PairInput& pair);
 
   struct Frame {
     Time stamp;
@@ -63,6 +78,9 @@ class InferenceMapping final : public mapping::MappingSystem {
   const mapping::StageClock* clock_ = nullptr;
   mapping::RuntimeStats per_frame_, map_update_;
   InferenceCounts counts_;
+  InferenceFrameCache* record_ = nullptr;
+  const InferenceFrameCache* replay_ = nullptr;
+  size_t cache_misses_ = 0;
 };
 
 // A system from a serialized model (Classifier::serialize bytes). The caller must have
