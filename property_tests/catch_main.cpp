@@ -12,6 +12,11 @@ int main(int argc, char* argv[]) {
   ::setenv("ORTHOSONAR_SHARED", ORTHOSONAR_SOURCE_DIR "/../shared", 0);
   ::setenv("ORTHOSONAR_TEST_OUT", ORTHOSONAR_BINARY_DIR "/test_out", 0);
   ::setenv("ORTHOSONAR_CLI", ORTHOSONAR_CLI_PATH, 0);
+  // rapidcheck draws a fresh seed per run unless told otherwise; a suite that gates CI must
+  // give the same verdict on every run (SPEC §9 applies to the tests too). Explore other
+  // seeds with RC_PARAMS="seed=N" (or "reproduce=..."); a found counterexample goes into
+  // docs/VERIFICATION.md and, once fixed, into a regression test.
+  ::setenv("RC_PARAMS", "seed=20261130", 0);
   std::error_code ec;
   std::filesystem::create_directories(std::getenv("ORTHOSONAR_TEST_OUT"), ec);
   return Catch::Session().run(argc, argv);
