@@ -12,11 +12,11 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "golden/cli_runner.hpp"
 #include "reports/image_compare.hpp"
 #include "reports/render.hpp"
 
@@ -36,24 +36,13 @@ fs::path fresh_dir(const std::string& name) {
   return d;
 }
 
-struct Run {
-  int code = -1;
-  std::string out;  // stdout and stderr
-};
+using Run = orthosonar::testing::CliRun;
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 // `prefix` goes before the CLI (e.g. "env -u DISPLAY").
 Run cli(const std::string& args, const std::string& prefix = "") {
-  Run r;
-  const std::string cmd = prefix + " '" + env_or("ORTHOSONAR_CLI", "orthosonar") + "' " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  char buf[4096];
-  while (fgets(buf, sizeof buf, p)) r.out += buf;
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return orthosonar::testing::run_cli(args, true, prefix);
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }

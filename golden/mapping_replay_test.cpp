@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "golden/cli_runner.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -27,31 +29,9 @@ fs::path test_dir() {
   return d;
 }
 
-std::string cli() {
-  if (const char* env = std::getenv("ORTHOSONAR_CLI")) return env;
-  // Beside this executable in the build tree: <build>/golden/.. -> <build>/tools/orthosonar.
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path guess = self.parent_path().parent_path() / "tools" / "orthosonar";
-  return !ec && fs::exists(guess) ? guess.string() : std::string("orthosonar");
-}
+using Run = orthosonar::testing::CliRun;
 
-struct Run {
-  int code = 0;
-  std::string out;
-};
-
-Run run(const std::string& args) {
-  Run r;
-  const std::string cmd = cli() + " " + args + " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  char buf[4096];
-  while (fgets(buf, sizeof buf, p)) r.out += buf;
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+Run run(const std::string& args) { return orthosonar::testing::run_cli(args, false); }
 
 std::string last_line(const std::string& s) {
   std::istringstream in(s);
