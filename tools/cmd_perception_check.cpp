@@ -81,17 +81,23 @@ void tally_image(const SonarPing& ping, const SonarLabels& labels, const std::ve
   }
 }
 
+// a / b, or 0 when b is 0.
+double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
+
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return ratio(s, static_cast<double>(v.size()));
+}
+
 void print_tally(const char* name, const Tally& t, size_t images) {
+  const auto d = [](size_t n) { return static_cast<double>(n); };
   std::printf("%s: water p50 %.0f p90 %.0f p99 %.0f mean %.1f, above gate %.4f | structure p50 %.0f p90 %.0f | "
               "detections/image %.0f precision %.3f, in overlap %.1f/image precision %.3f\n",
-              name, quantile(t.water, 0.5), quantile(t.water, 0.9), quantile(t.water, 0.99),
-              t.water.empty() ? 0.0 : [&] { double s = 0; for (double x : t.water) s += x; return s / static_cast<double>(t.water.size()); }(),
-              t.water_pixels ? static_cast<double>(t.water_above_gate) / static_cast<double>(t.water_pixels) : 0.0,
-              quantile(t.structure, 0.5), quantile(t.structure, 0.9),
-              images ? static_cast<double>(t.det) / static_cast<double>(images) : 0.0,
-              t.det ? static_cast<double>(t.det_true) / static_cast<double>(t.det) : 0.0,
-              images ? static_cast<double>(t.det_overlap) / static_cast<double>(images) : 0.0,
-              t.det_overlap ? static_cast<double>(t.det_overlap_true) / static_cast<double>(t.det_overlap) : 0.0);
+              name, quantile(t.water, 0.5), quantile(t.water, 0.9), quantile(t.water, 0.99), mean(t.water),
+              ratio(d(t.water_above_gate), d(t.water_pixels)), quantile(t.structure, 0.5), quantile(t.structure, 0.9),
+              ratio(d(t.det), d(images)), ratio(d(t.det_true), d(t.det)), ratio(d(t.det_overlap), d(images)),
+              ratio(d(t.det_overlap_true), d(t.det_overlap)));
 }
 
 int run_check(const CheckArgs& a) {
