@@ -16,10 +16,8 @@
 #include <memory>
 #include <string>
 #include <vector>
-#include <fstream>
 #include <map>
 #include <numbers>
-#include <sstream>
 
 #include "core/mapping/mesh_distance.hpp"
 #include "core/perception/fusion.hpp"
@@ -111,21 +109,15 @@ int run_check(const CheckArgs& a) {
   sc.seed = a.seed;
   sc.labels = true;
   sc.render_threads = 2;
-  if (a.resolution == "reduced") sc.resolution = sim::Resolution::kReduced;
-  else if (a.resolution != "full") {
-    std::cerr << "orthosonar perception-check: --resolution must be full or reduced\n";
+  auto resolution = sim::parse_resolution(a.resolution);
+  if (!resolution.ok()) {
+    std::cerr << "orthosonar perception-check: " << resolution.error().message << "\n";
     return 2;
   }
+  sc.resolution = *resolution;
   if (!a.sim_config.empty()) {
-    std::ifstream f(a.sim_config);
-    if (!f) {
-      std::cerr << "orthosonar perception-check: cannot read '" << a.sim_config << "'\n";
-      return 2;
-    }
-    std::stringstream ss;
-    ss << f.rdbuf();
-    if (Status s = sim::apply_sim_config_yaml(ss.str(), sc); !s.ok()) {
-      std::cerr << "orthosonar perception-check: " << a.sim_config << ": " << s.error().message << "\n";
+    if (Status s = sim::load_sim_config_file(a.sim_config, sc); !s.ok()) {
+      std::cerr << "orthosonar perception-check: " << s.error().message << "\n";
       return 2;
     }
   }

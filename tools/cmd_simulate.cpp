@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <numbers>
 #include <sstream>
@@ -41,13 +40,8 @@ int fail(const std::string& msg) {
 
 int run_simulate(const SimulateArgs& a) {
   sim::SimConfig cfg;
-  if (!a.config_yaml.empty()) {
-    std::ifstream in(a.config_yaml);
-    if (!in) return fail("cannot read config '" + a.config_yaml + "'");
-    std::stringstream text;
-    text << in.rdbuf();
-    if (Status s = sim::apply_sim_config_yaml(text.str(), cfg); !s) return fail(s.error().message);
-  }
+  if (!a.config_yaml.empty())
+    if (Status s = sim::load_sim_config_file(a.config_yaml, cfg); !s) return fail(s.error().message);
   cfg.duration_s = a.duration_s;
   cfg.seed = a.seed;
   cfg.labels = a.labels || cfg.labels;

@@ -27,6 +27,18 @@ std::vector<GridCell> paper_grid() {
   return g;
 }
 
+namespace {
+
+// Fusion served from the preparation pass's results (a pair it did not fuse gets none).
+mapping::FuseFn cached_fusion(const PreparedSweep& prepared) {
+  return [&cache = prepared.fused](const SonarPing& h, const SonarPing& v) {
+    const auto it = cache.find({h.stamp.ns(), v.stamp.ns()});
+    return it == cache.end() ? perception::FusionResult{} : *it->second;
+  };
+}
+
+}  // namespace
+
 Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions& options_in, int threads,
                                     const std::function<void(double)>& progress) {
   auto src = replay::FixtureSource::open(fixture);
@@ -92,12 +104,7 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
     p.inference_cache = std::make_shared<inference::InferenceFrameCache>();
     once.inference_record = p.inference_cache.get();
     hal::FakeSource source(p.events);
-    const auto& cache = p.fused;
-    mapping::FuseFn fuse = [&cache](const SonarPing& h, const SonarPing& v) {
-      const auto it = cache.find({h.stamp.ns(), v.stamp.ns()});
-      return it == cache.end() ? perception::FusionResult{} : *it->second;
-    };
-    auto r = run_pipeline(source, p.metadata, once, p.mesh, fuse);
+    auto r = run_pipeline(source, p.metadata, once, p.mesh, cached_fusion(p));
     if (!r.ok()) return Error{"inference pass: " + r.error().message};
     for (const auto& s : r->systems)
       for (const auto& [name, st] : s.runtime)
@@ -114,13 +121,8 @@ Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& opt
   options.config.pipeline.slam.kf_distance_m = cell.distance_m;
   options.config.pipeline.slam.kf_rotation_deg = cell.rotation_deg;
   hal::FakeSource source(prepared.events);
-  const auto& cache = prepared.fused;
-  mapping::FuseFn fuse = [&cache](const SonarPing& h, const SonarPing& v) {
-    const auto it = cache.find({h.stamp.ns(), v.stamp.ns()});
-    return it == cache.end() ? perception::FusionResult{} : *it->second;
-  };
   options.inference_replay = prepared.inference_cache.get();
-  auto r = run_pipeline(source, prepared.metadata, options, prepared.mesh, fuse);
+  auto r = run_pipeline(source, prepared.metadata, options, prepared.mesh, cached_fusion(prepared));
   if (!r.ok()) return r.error();
   CellResult c;
   c.cell = cell;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -105,6 +106,15 @@ Status apply_fields(const YAML::Node& node, const std::map<std::string, Setter>&
 }
 
 }  // namespace
+
+Status load_sim_config_file(const std::string& path, SimConfig& config) {
+  std::ifstream in(path);
+  if (!in) return Error{"cannot read simulator config '" + path + "'"};
+  std::stringstream text;
+  text << in.rdbuf();
+  if (Status s = apply_sim_config_yaml(text.str(), config); !s.ok()) return Error{path + ": " + s.error().message};
+  return {};
+}
 
 Status apply_sim_config_yaml(const std::string& yaml_text, SimConfig& c) {
   YAML::Node root;

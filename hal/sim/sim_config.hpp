@@ -106,6 +106,8 @@ SonarGeometry sonar_geometry(const SonarModelConfig& c, Resolution r);
 // Overrides fields from a YAML map whose keys mirror the struct fields, e.g.
 // {duration_s: 120, sonar: {gain: 4}, nav: {dvl_sigma_mps: 0.02}}. Unknown keys are errors.
 Status apply_sim_config_yaml(const std::string& yaml_text, SimConfig& config);
+// The same from a YAML file; errors name the file.
+Status load_sim_config_file(const std::string& path, SimConfig& config);
 // Checks ranges (elevation_samples >= 32, positive rates, ...).
 Status validate(const SimConfig& config);
 
