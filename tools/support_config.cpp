@@ -111,7 +111,10 @@ Table root_table(RunConfig& c) {
                       {"cfar_v", nested([&f] { return cfar_table(f.cfar_v); })}};
        })},
       {"dr", nested([&d] {
-         return Table{{"max_speed_mps", field(d.max_speed_mps)}, {"hold_s", field(d.hold_s)}};
+         return Table{{"max_speed_mps", field(d.max_speed_mps)},
+                      {"hold_s", field(d.hold_s)},
+                      {"attitude_filter_tau_s", field(d.attitude_filter_tau_s)},
+                      {"attitude_filter_max_gap_s", field(d.attitude_filter_max_gap_s)}};
        })},
       {"slam", nested([&s] {
          return Table{{"kf_distance_m", field(s.kf_distance_m)},
@@ -205,7 +208,11 @@ nlohmann::json config_to_json(const RunConfig& c) {
                   {"rotate_v_patch", f.rotate_v_patch},
                   {"T_V_h", pose6_string(f.T_V_h)}, {"T_V_v", pose6_string(f.T_V_v)},
                   {"cfar_h", cfar_json(f.cfar_h)}, {"cfar_v", cfar_json(f.cfar_v)}}},
-      {"dr", {{"max_speed_mps", d.max_speed_mps}, {"hold_s", d.hold_s}}},
+      {"dr",
+       {{"max_speed_mps", d.max_speed_mps},
+        {"hold_s", d.hold_s},
+        {"attitude_filter_tau_s", d.attitude_filter_tau_s},
+        {"attitude_filter_max_gap_s", d.attitude_filter_max_gap_s}}},
       {"slam", {{"kf_distance_m", s.kf_distance_m}, {"kf_rotation_deg", s.kf_rotation_deg},
                 {"voxel_m", s.voxel_m}, {"outlier_radius_m", s.outlier_radius_m},
                 {"outlier_min_neighbours", s.outlier_min_neighbours}, {"ssm_target_frames", s.ssm_target_frames},

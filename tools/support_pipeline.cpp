@@ -291,6 +291,7 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
     o.coverage_voxels = static_cast<int64_t>(centroids.size());
     if (md) o.accuracy = mapping::accuracy(centroids, *md);
     o.runtime = s->runtime();
+    o.system_counts = s->system_counts();
     r.systems.push_back(std::move(o));
   }
   replay::DigestBuilder digest;

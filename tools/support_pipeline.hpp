@@ -75,6 +75,7 @@ struct SystemOutput {
   int64_t coverage_voxels = 0;
   std::optional<mapping::AccuracyStats> accuracy;  // when a mesh is known
   std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime;
+  std::vector<std::pair<std::string, int64_t>> system_counts;  // MappingSystem::system_counts
 };
 
 struct RunOutput {

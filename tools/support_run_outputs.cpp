@@ -37,6 +37,7 @@ nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s) 
   nlohmann::json counts = nlohmann::json::object();
   for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
   counts["map_points"] = s.map_W.size();
+  for (const auto& [k, v] : s.system_counts) counts[k] = v;
   return {{"system", s.name},
           {"coverage_voxels", s.coverage_voxels},
           {"mae_m", s.accuracy ? nlohmann::json(s.accuracy->mae_m) : nlohmann::json(nullptr)},

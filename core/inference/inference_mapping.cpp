@@ -37,6 +37,8 @@ std::vector<Eigen::Vector3f> InferenceMapping::infer_uncached(const mapping::Pai
   counts_.bayes_updates += r.stats.bayes_updates;
   counts_.inferred_points += r.stats.inferred_points;
   counts_.bad_images += r.stats.bad_image;
+  for (const Prediction& pred : r.predictions)
+    if (pred.known) ++counts_.known_by_class[pred.semantic];
   cloud.insert(cloud.end(), r.inferred_V.begin(), r.inferred_V.end());
   return cloud;
 }
@@ -85,6 +87,24 @@ std::vector<Eigen::Vector3f> InferenceMapping::map_points_W() const {
 std::vector<std::pair<std::string, mapping::RuntimeStats>> InferenceMapping::runtime() const {
   return {{"inference_per_frame", per_frame_},
           {submapping_ ? "inference_submap_construction" : "inference_map_update", map_update_}};
+}
+
+std::vector<std::pair<std::string, int64_t>> InferenceMapping::system_counts() const {
+  // Frames replayed from a sweep's cache were inferred elsewhere; nothing to report.
+  if (replay_ != nullptr) return {};
+  const auto n = [](size_t v) { return static_cast<int64_t>(v); };
+  std::vector<std::pair<std::string, int64_t>> out = {
+      {"inference_frames", n(counts_.frames)},
+      {"inference_clusters", n(counts_.clusters)},
+      {"inference_known", n(counts_.known)},
+      {"inference_unknown", n(counts_.unknown)},
+      {"inference_registration_failures", n(counts_.registration_failures)},
+      {"inference_bayes_updates", n(counts_.bayes_updates)},
+      {"inference_inferred_points", n(counts_.inferred_points)},
+      {"inference_bad_images", n(counts_.bad_images)}};
+  for (const auto& [c, k] : counts_.known_by_class)
+    out.emplace_back(std::string("inference_known_") + semantic_class_name(c), n(k));
+  return out;
 }
 
 Result<std::unique_ptr<mapping::MappingSystem>> make_inference_system_from_model(

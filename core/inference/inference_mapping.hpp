@@ -31,6 +31,7 @@ struct InferenceCounts {
   size_t fused_points = 0;
   size_t dropped_pairs = 0;  // submapping: pairs before the first keyframe
   size_t bad_images = 0;     // frames whose h image did not match its rows x cols
+  std::map<SemanticClass, size_t> known_by_class;  // accepted clusters per class
 };
 
 // Fused + inferred points per pair (V frame), keyed by the pair's stamp in ns. In submapping
@@ -50,6 +51,7 @@ class InferenceMapping final : public mapping::MappingSystem {
   std::vector<Eigen::Vector3f> map_points_W() const override;
   std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime() const override;
   void set_clock(const mapping::StageClock* clock) override { clock_ = clock; }
+  std::vector<std::pair<std::string, int64_t>> system_counts() const override;
   const InferenceCounts& counts() const { return counts_; }
   // Submapping mode only. record: every inferred pair's cloud is also written to `cache`.
   // replay: clouds come from `cache` (a pair missing there is an error, reported by

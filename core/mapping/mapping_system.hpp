@@ -102,6 +102,9 @@ class MappingSystem {
   virtual std::vector<Eigen::Vector3f> map_points_W() const = 0;
   // Per-stage runtime, e.g. {"submap_construction", stats}.
   virtual std::vector<std::pair<std::string, RuntimeStats>> runtime() const = 0;
+  // System-specific counters for metrics.json (e.g. inference's clusters and Bayes
+  // updates); none by default. Deterministic; never part of the digest.
+  virtual std::vector<std::pair<std::string, int64_t>> system_counts() const { return {}; }
   // The clock used to time stages; optional, may be null.
   virtual void set_clock(const StageClock* clock) { (void)clock; }
 };

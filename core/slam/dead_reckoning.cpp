@@ -43,7 +43,37 @@ DeadReckoning::DeadReckoning(DrConfig config) : config_(std::move(config)) {
 
 void DeadReckoning::add(const ImuReading& r) {
   if (!imu_.empty() && r.stamp < imu_.back().first) return;  // out of order: ignore
-  imu_.emplace_back(r.stamp, r.q_W_V.normalized());
+  const Quat q = r.q_W_V.normalized();
+  const double tau = config_.attitude_filter_tau_s;
+  if (!(tau > 0.0) || !r.angular_velocity_V.allFinite()) {
+    imu_.emplace_back(r.stamp, q);
+    prune(imu_);
+    return;
+  }
+  const Vec3 meas = rpy_from_rotation(q.toRotationMatrix());
+  const double dt = have_filter_ ? (r.stamp - imu_last_).seconds() : 0.0;
+  if (!have_filter_ || dt > config_.attitude_filter_max_gap_s) {
+    rpy_filtered_ = meas;  // (re)start on the measurement
+  } else {
+    // Propagate with the body rates (ZYX Euler kinematics), then blend towards the
+    // measurement with gain dt / (tau + dt); angle differences wrapped.
+    const double phi = rpy_filtered_.x(), theta = rpy_filtered_.y();
+    const Vec3& w = r.angular_velocity_V;
+    const double c_theta = std::max(std::cos(theta), 1e-3);
+    const Vec3 rate(w.x() + std::tan(theta) * (std::sin(phi) * w.y() + std::cos(phi) * w.z()),
+                    std::cos(phi) * w.y() - std::sin(phi) * w.z(),
+                    (std::sin(phi) * w.y() + std::cos(phi) * w.z()) / c_theta);
+    const double k = dt / (tau + dt);
+    for (int i = 0; i < 3; ++i) {
+      const double pred = rpy_filtered_[i] + rate[i] * dt;
+      rpy_filtered_[i] = wrap_angle(pred + k * wrap_angle(meas[i] - pred));
+    }
+  }
+  have_filter_ = true;
+  imu_last_ = r.stamp;
+  imu_.emplace_back(r.stamp, Quat(se3_from_xyz_rpy(0, 0, 0, rpy_filtered_.x(), rpy_filtered_.y(),
+                                                   rpy_filtered_.z())
+                                      .rotation()));
   prune(imu_);
 }
 

@@ -12,15 +12,18 @@ namespace {
 
 Quat yaw_quat(double yaw) { return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ())); }
 
-// Feeds IMU at 100 Hz, DVL and depth at 5 Hz for [0, duration] with the given yaw(t) and
-// body velocity; `dvl` may alter each DVL reading (faults, outages: return false to drop).
+// Feeds IMU at 100 Hz (orientation yaw(t) and matching gyro rates), DVL and depth at 5 Hz
+// for [0, duration] with the given body velocity; `dvl` may alter each DVL reading (faults, outages: return false to drop).
 template <class YawFn, class DvlFn>
 DeadReckoning run(double duration_s, YawFn yaw, const Vec3& v_V, DvlFn dvl, DrConfig cfg = {}) {
   DeadReckoning dr(cfg);
   const int64_t imu_ns = 10'000'000, dvl_every = 20;
   for (int64_t k = 0; k * imu_ns <= static_cast<int64_t>(duration_s * 1e9); ++k) {
     const Time t = Time::from_ns(k * imu_ns);
-    dr.add(ImuReading{t, yaw_quat(yaw(t.seconds())), Vec3::Zero(), Vec3::Zero()});
+    // Body rates consistent with yaw(t) (central difference), as a gyro would report.
+    const double ts = t.seconds(), h = 1e-4;
+    const Vec3 rate(0.0, 0.0, (yaw(ts + h) - yaw(ts - h)) / (2.0 * h));
+    dr.add(ImuReading{t, yaw_quat(yaw(ts)), rate, Vec3::Zero()});
     if (k % dvl_every == 0) {
       dr.add(DepthReading{t, 3.0});
       DvlReading r{t, v_V, true, 5.0};
@@ -110,4 +113,57 @@ TEST_CASE("DR reports a dropout of invalid readings and closes it at the next go
   // Moving 5 s, held for 2 s (trapezoid ends at the last held state), zero, moving 10 s.
   const double x = dr.pose_at(Time::from_s(20))->translation().x();
   CHECK(x == Approx(0.5 * (5.0 + 2.0 + 10.0)).margin(1e-9));
+}
+
+TEST_CASE("the attitude filter removes per-sample heading noise", "[unit]") {
+  // A fixed heading seen through 0.2 deg of white noise per IMU sample, gyro rates zero.
+  const double deg = std::numbers::pi / 180.0;
+  auto noisy = [&](double t) {
+    const uint64_t k = static_cast<uint64_t>(std::llround(t * 100.0));
+    return 0.3 + 0.2 * deg * std::sin(static_cast<double>(k * 7919u % 1000u));  // bounded, erratic
+  };
+  auto heading_error = [&](const DeadReckoning& dr) {
+    double worst = 0.0;
+    for (int k = 100; k <= 150; ++k) {
+      const auto p = dr.pose_at(Time::from_ms(200 * k));
+      REQUIRE(p.ok());
+      worst = std::max(worst, std::abs(yaw_of(Quat(p->rotation())) - 0.3));
+    }
+    return worst / deg;
+  };
+  DrConfig raw;
+  raw.attitude_filter_tau_s = 0.0;  // SPEC §2 as written: each orientation as it comes
+  const auto dr_raw = run(30.0, noisy, Vec3(0.5, 0, 0), [](DvlReading&) { return true; }, raw);
+  const auto dr_filtered = run(30.0, noisy, Vec3(0.5, 0, 0), [](DvlReading&) { return true; });
+  CHECK(heading_error(dr_raw) > 0.1);
+  CHECK(heading_error(dr_filtered) < 0.03);
+}
+
+TEST_CASE("the attitude filter follows a slow heading drift with a lag of tau x rate", "[unit]") {
+  // The orientation drifts at 0.01 rad/s while the gyro reports no rotation (a drifting
+  // heading reference): the filter must follow the reference, lagging by about tau x rate.
+  DrConfig cfg;
+  cfg.attitude_filter_tau_s = 5.0;
+  DeadReckoning dr(cfg);
+  for (int k = 0; k <= 6000; ++k) {
+    const Time t = Time::from_ns(int64_t{k} * 10'000'000);
+    dr.add(ImuReading{t, yaw_quat(0.01 * t.seconds()), Vec3::Zero(), Vec3::Zero()});
+    if (k % 20 == 0) dr.add(DvlReading{t, Vec3(0.5, 0, 0), true, 5.0});
+  }
+  const double yaw = yaw_of(Quat(dr.pose_at(Time::from_seconds(60.0))->rotation()));
+  CHECK(0.6 - yaw == Approx(0.05).margin(0.005));
+}
+
+TEST_CASE("the attitude filter restarts on the orientation after an IMU gap", "[unit]") {
+  DeadReckoning dr;  // default filter
+  for (int k = 0; k <= 100; ++k) {
+    const Time t = Time::from_ns(int64_t{k} * 10'000'000);
+    dr.add(ImuReading{t, yaw_quat(0.0), Vec3::Zero(), Vec3::Zero()});
+    if (k % 20 == 0) dr.add(DvlReading{t, Vec3(0.5, 0, 0), true, 5.0});
+  }
+  // 2 s without IMU, then the heading is 1 rad: taken at once, not blended in over tau.
+  const Time t = Time::from_seconds(3.0);
+  dr.add(ImuReading{t, yaw_quat(1.0), Vec3::Zero(), Vec3::Zero()});
+  dr.add(DvlReading{t, Vec3(0.5, 0, 0), true, 5.0});
+  CHECK(yaw_of(Quat(dr.pose_at(t)->rotation())) == Approx(1.0).margin(1e-9));
 }

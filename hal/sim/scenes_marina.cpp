@@ -60,10 +60,11 @@ Scene build_marina1(uint64_t seed) {
   a.scene.seed = seed;
   a.scene.vehicle_depth_m = 3.0;
   a.scene.seafloor_depth_m = 8.0;
-  // Two lanes between three dock lines, closed by turns at both ends (one lap ~ 200 m).
-  // Starts 18 m before the east turn, so even a one-minute mission sees the end docks
-  // head-on (the pilings along the sides stay abeam, outside the +-10 deg overlap).
-  a.scene.route = {{20, 9}, {38, 9}, {47, 0}, {38, -9}, {-38, -9}, {-47, 0}, {-42, 9}, {20, 9}};
+  // Two lanes 3.75 m off the breakwater's piling rows (y = +-1.75), closed by turns round
+  // its heads (one lap ~ 190 m). That close, the row ahead stays inside the +-10 deg
+  // overlap from ~21 m out, so the vertical sonar sees the pilings the horizontal one
+  // classifies (docs/SCENES.md). Starts 55 m before the east turn, with the north row ahead.
+  a.scene.route = {{-15, 5.5}, {40, 5.5}, {45, 0}, {40, -5.5}, {-40, -5.5}, {-45, 0}, {-40, 5.5}, {-15, 5.5}};
   a.seafloor(-65, 65, -50, 50, 0.4);
   Rng rng(derive_seed(seed, 0x4d41524931ull));
   const std::vector<double> fingers = {-30, -20, -10, 0, 10, 20, 30};

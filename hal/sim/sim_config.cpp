@@ -86,6 +86,7 @@ std::map<std::string, Setter> nav_fields(NavConfig& n) {
           {"imu_yaw_bias_walk_deg_per_sqrt_s", set(n.imu_yaw_bias_walk_deg_per_sqrt_s)},
           {"imu_yaw_bias_rate_dps", set(n.imu_yaw_bias_rate_dps)},
           {"imu_gyro_sigma_dps", set(n.imu_gyro_sigma_dps)},
+          {"imu_gyro_bias_dps", set(n.imu_gyro_bias_dps)},
           {"depth_sigma_m", set(n.depth_sigma_m)}};
 }
 

@@ -77,6 +77,8 @@ struct NavConfig {
   double imu_yaw_bias_walk_deg_per_sqrt_s = 0.05;  // random walk of the yaw bias
   double imu_yaw_bias_rate_dps = 0.004;            // steady drift (2.4 deg over 10 min)
   double imu_gyro_sigma_dps = 0.05;
+  double imu_gyro_bias_dps = 0.003;    // constant gyro bias per axis, drawn N(0, this) per mission
+                                       // (a MEMS AHRS's ~10 deg/h in-run bias stability)
   double depth_sigma_m = 0.02;
 };
 

@@ -15,7 +15,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr uint64_t kImuStream = 0x494d55ull, kBiasStream = 0x42494153ull, kDvlStream = 0x44564cull,
-                   kDepthStream = 0x44455054ull;
+                   kDepthStream = 0x44455054ull, kGyroBiasStream = 0x47594230ull;
 
 // A regular stream of stamps: offset + period * i for i < count.
 struct Stream {
@@ -46,6 +46,7 @@ struct Simulator::Impl {
   std::array<uint64_t, kChannelCount> next{};   // next index per channel (truth: sequence)
   std::array<uint64_t, kChannelCount> truth_next{};  // per sensor stream: first stamp without truth
   std::vector<double> yaw_bias_rad;                  // per IMU sample
+  Vec3 gyro_bias_rps = Vec3::Zero();                 // constant per mission
   std::array<std::optional<SonarLabels>, 2> pending_labels;
   std::unique_ptr<PingPrefetch> prefetch;
 
@@ -88,7 +89,8 @@ struct Simulator::Impl {
                            s.pitch_rad + rng.normal(0, n.imu_roll_pitch_sigma_deg * kDeg),
                            wrap_angle(s.yaw_rad + yaw_bias_rad[i] + rng.normal(0, n.imu_yaw_sigma_deg * kDeg)));
         const double g = n.imu_gyro_sigma_dps * kDeg;
-        r.angular_velocity_V = s.omega_V_rps + Vec3(rng.normal(0, g), rng.normal(0, g), rng.normal(0, g));
+        r.angular_velocity_V =
+            s.omega_V_rps + gyro_bias_rps + Vec3(rng.normal(0, g), rng.normal(0, g), rng.normal(0, g));
         const Eigen::Matrix3d R = s.T_W_V().rotation();
         r.linear_acceleration_V = R.transpose() * Vec3(0, 0, 9.80665);
         return r;
@@ -159,6 +161,11 @@ Simulator::Simulator(Scene scene, SimConfig config) : impl_(std::make_unique<Imp
     m.yaw_bias_rad.push_back(b);
     Rng rng(derive_seed(config.seed, kBiasStream, i));
     b += n.imu_yaw_bias_rate_dps * kDeg * dt + n.imu_yaw_bias_walk_deg_per_sqrt_s * kDeg * std::sqrt(dt) * rng.normal();
+  }
+  {
+    Rng rng(derive_seed(config.seed, kGyroBiasStream, 0));
+    const double sb = n.imu_gyro_bias_dps * kDeg;
+    m.gyro_bias_rps = Vec3(rng.normal(0, sb), rng.normal(0, sb), rng.normal(0, sb));
   }
   if (config.render_threads > 1) {
     m.prefetch = std::make_unique<PingPrefetch>(
