@@ -45,7 +45,12 @@ void DeadReckoning::add(const ImuReading& r) {
   if (!imu_.empty() && r.stamp < imu_.back().first) return;  // out of order: ignore
   const Quat q = r.q_W_V.normalized();
   const double tau = config_.attitude_filter_tau_s;
-  if (!(tau > 0.0) || !r.angular_velocity_V.allFinite()) {
+  // A device set up without gyro output reports rates of exactly zero (hal/drivers/vn100.cpp
+  // leaves them so); a real gyro never does on all three axes. Until a source has shown
+  // rates, and for any reading whose rates are not finite, the orientation is used as is.
+  rates_seen_ = rates_seen_ || !r.angular_velocity_V.isZero(0.0);
+  if (!(tau > 0.0) || !rates_seen_ || !r.angular_velocity_V.allFinite()) {
+    have_filter_ = false;  // restart on the next usable reading
     imu_.emplace_back(r.stamp, q);
     prune(imu_);
     return;

@@ -30,6 +30,8 @@ struct DrConfig {
   // drift with a lag of tau x drift rate. docs/SLAM.md "Attitude filter".
   double attitude_filter_tau_s = 5.0;
   double attitude_filter_max_gap_s = 0.5;  // a longer IMU gap restarts the filter
+  // The filter needs gyro rates: a source whose rates are all exactly zero (no gyro output)
+  // or not finite gets the orientation as is.
 };
 
 struct DrCounts {
@@ -78,6 +80,7 @@ class DeadReckoning {
   Vec3 rpy_filtered_ = Vec3::Zero();            // attitude filter state
   Time imu_last_;
   bool have_filter_ = false;
+  bool rates_seen_ = false;                     // some reading had non-zero gyro rates
   std::vector<std::pair<Time, double>> depth_;  // recent depth readings (pruned)
   Vec2 xy_ = Vec2::Zero();
   Vec3 v_W_prev_ = Vec3::Zero();   // W velocity used at the previous state

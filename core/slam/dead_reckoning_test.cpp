@@ -115,55 +115,80 @@ TEST_CASE("DR reports a dropout of invalid readings and closes it at the next go
   CHECK(x == Approx(0.5 * (5.0 + 2.0 + 10.0)).margin(1e-9));
 }
 
+namespace {
+
+// Erratic but bounded values in [-1, 1], a function of the sample index only.
+double jitter(int64_t k, uint64_t salt) {
+  return std::sin(static_cast<double>((static_cast<uint64_t>(k) * 7919u + salt) % 1000u));
+}
+
+// IMU at 100 Hz with orientation yaw_meas(k) and a gyro reporting z rate gyro_z(k), DVL at
+// 5 Hz, for n samples.
+template <class Meas, class Gyro>
+DeadReckoning run_imu(int64_t n, Meas yaw_meas, Gyro gyro_z, DrConfig cfg = {}) {
+  DeadReckoning dr(cfg);
+  for (int64_t k = 0; k <= n; ++k) {
+    const Time t = Time::from_ns(k * 10'000'000);
+    dr.add(ImuReading{t, yaw_quat(yaw_meas(k)), Vec3(0.0, 0.0, gyro_z(k)), Vec3::Zero()});
+    if (k % 20 == 0) dr.add(DvlReading{t, Vec3(0.5, 0, 0), true, 5.0});
+  }
+  return dr;
+}
+
+double dr_yaw(const DeadReckoning& dr, Time t) {
+  const auto p = dr.pose_at(t);
+  REQUIRE(p.ok());
+  return yaw_of(Quat(p->rotation()));
+}
+
+}  // namespace
+
 TEST_CASE("the attitude filter removes per-sample heading noise", "[unit]") {
-  // A fixed heading seen through 0.2 deg of white noise per IMU sample, gyro rates zero.
+  // A fixed heading of 0.3 rad seen through 0.2 deg of noise per sample; the gyro reports
+  // 0.05 deg/s of noise around zero.
   const double deg = std::numbers::pi / 180.0;
-  auto noisy = [&](double t) {
-    const uint64_t k = static_cast<uint64_t>(std::llround(t * 100.0));
-    return 0.3 + 0.2 * deg * std::sin(static_cast<double>(k * 7919u % 1000u));  // bounded, erratic
-  };
-  auto heading_error = [&](const DeadReckoning& dr) {
+  auto meas = [&](int64_t k) { return 0.3 + 0.2 * deg * jitter(k, 0); };
+  auto gyro = [&](int64_t k) { return 0.05 * deg * jitter(k, 500); };
+  auto worst_error_deg = [&](const DeadReckoning& dr) {
     double worst = 0.0;
-    for (int k = 100; k <= 150; ++k) {
-      const auto p = dr.pose_at(Time::from_ms(200 * k));
-      REQUIRE(p.ok());
-      worst = std::max(worst, std::abs(yaw_of(Quat(p->rotation())) - 0.3));
-    }
+    for (int k = 100; k <= 150; ++k) worst = std::max(worst, std::abs(dr_yaw(dr, Time::from_ms(200 * k)) - 0.3));
     return worst / deg;
   };
   DrConfig raw;
   raw.attitude_filter_tau_s = 0.0;  // SPEC §2 as written: each orientation as it comes
-  const auto dr_raw = run(30.0, noisy, Vec3(0.5, 0, 0), [](DvlReading&) { return true; }, raw);
-  const auto dr_filtered = run(30.0, noisy, Vec3(0.5, 0, 0), [](DvlReading&) { return true; });
-  CHECK(heading_error(dr_raw) > 0.1);
-  CHECK(heading_error(dr_filtered) < 0.03);
+  CHECK(worst_error_deg(run_imu(3000, meas, gyro, raw)) > 0.1);
+  CHECK(worst_error_deg(run_imu(3000, meas, gyro)) < 0.03);
 }
 
 TEST_CASE("the attitude filter follows a slow heading drift with a lag of tau x rate", "[unit]") {
-  // The orientation drifts at 0.01 rad/s while the gyro reports no rotation (a drifting
-  // heading reference): the filter must follow the reference, lagging by about tau x rate.
+  // The orientation drifts at 0.01 rad/s while the gyro sees no rotation (a drifting
+  // heading reference): the filter follows the reference, lagging by about tau x rate.
+  const double deg = std::numbers::pi / 180.0;
   DrConfig cfg;
   cfg.attitude_filter_tau_s = 5.0;
-  DeadReckoning dr(cfg);
-  for (int k = 0; k <= 6000; ++k) {
-    const Time t = Time::from_ns(int64_t{k} * 10'000'000);
-    dr.add(ImuReading{t, yaw_quat(0.01 * t.seconds()), Vec3::Zero(), Vec3::Zero()});
-    if (k % 20 == 0) dr.add(DvlReading{t, Vec3(0.5, 0, 0), true, 5.0});
-  }
-  const double yaw = yaw_of(Quat(dr.pose_at(Time::from_seconds(60.0))->rotation()));
-  CHECK(0.6 - yaw == Approx(0.05).margin(0.005));
+  const auto dr = run_imu(
+      6000, [](int64_t k) { return 0.01 * 0.01 * static_cast<double>(k); },
+      [&](int64_t k) { return 0.05 * deg * jitter(k, 500); }, cfg);
+  CHECK(0.6 - dr_yaw(dr, Time::from_s(60)) == Approx(0.05).margin(0.005));
 }
 
 TEST_CASE("the attitude filter restarts on the orientation after an IMU gap", "[unit]") {
   DeadReckoning dr;  // default filter
   for (int k = 0; k <= 100; ++k) {
     const Time t = Time::from_ns(int64_t{k} * 10'000'000);
-    dr.add(ImuReading{t, yaw_quat(0.0), Vec3::Zero(), Vec3::Zero()});
+    dr.add(ImuReading{t, yaw_quat(0.0), Vec3(0.0, 0.0, 1e-4 * jitter(k, 0)), Vec3::Zero()});
     if (k % 20 == 0) dr.add(DvlReading{t, Vec3(0.5, 0, 0), true, 5.0});
   }
   // 2 s without IMU, then the heading is 1 rad: taken at once, not blended in over tau.
   const Time t = Time::from_seconds(3.0);
-  dr.add(ImuReading{t, yaw_quat(1.0), Vec3::Zero(), Vec3::Zero()});
+  dr.add(ImuReading{t, yaw_quat(1.0), Vec3(0.0, 0.0, 1e-4), Vec3::Zero()});
   dr.add(DvlReading{t, Vec3(0.5, 0, 0), true, 5.0});
-  CHECK(yaw_of(Quat(dr.pose_at(t)->rotation())) == Approx(1.0).margin(1e-9));
+  CHECK(dr_yaw(dr, t) == Approx(1.0).margin(1e-9));
+}
+
+TEST_CASE("without gyro rates the attitude filter stays off", "[unit]") {
+  // A device set up without gyro output reports zero rates: a turn must then follow the
+  // orientation exactly, not lag behind it by tau.
+  const auto dr = run_imu(1000, [](int64_t k) { return 0.001 * static_cast<double>(k); }, [](int64_t) { return 0.0; });
+  CHECK(dr_yaw(dr, Time::from_s(10)) == Approx(1.0).margin(1e-9));
 }
