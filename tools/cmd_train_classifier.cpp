@@ -5,7 +5,7 @@
 // per class), the training part augmented, and the CNN trained with a fixed seed. Prints
 // held-out accuracy per class and writes the model (torch archive) to -o.
 // Defaults: marina1, marina2 and harbor, 300 s each (piling, dock, boat, seawall, hull;
-// about 80 s). Trained on the marinas alone it knew only piling and dock and accepted
+// 60-80 s on 2 cores). Trained on the marinas alone it knew only piling and dock and accepted
 // crops of other structures (the aircraft wreck) as one of them (docs/INFERENCE.md).
 #include <chrono>
 #include <cstdio>

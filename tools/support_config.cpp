@@ -184,9 +184,10 @@ Status apply_config_yaml(const std::string& yaml_text, RunConfig& config) {
   if (Status s = apply(root, root_table(trial), ""); !s.ok()) return s;
   if (trial.threads < 1) return Error{"config: 'threads' must be >= 1"};
   if (!(trial.voxel_m > 0.0)) return Error{"config: 'mapping.voxel_m' must be > 0"};
-  if (!(trial.pipeline.dr.attitude_filter_tau_s >= 0.0) || !std::isfinite(trial.pipeline.dr.attitude_filter_tau_s))
+  const slam::DrConfig& dr = trial.pipeline.dr;  // NaN fails the comparisons, +inf isfinite
+  if (!(dr.attitude_filter_tau_s >= 0.0) || !std::isfinite(dr.attitude_filter_tau_s))
     return Error{"config: 'dr.attitude_filter_tau_s' must be finite and >= 0 (0 = off)"};
-  if (!(trial.pipeline.dr.attitude_filter_max_gap_s > 0.0) || !std::isfinite(trial.pipeline.dr.attitude_filter_max_gap_s))
+  if (!(dr.attitude_filter_max_gap_s > 0.0) || !std::isfinite(dr.attitude_filter_max_gap_s))
     return Error{"config: 'dr.attitude_filter_max_gap_s' must be finite and > 0"};
   config = trial;
   return {};

@@ -88,7 +88,7 @@ Scene build_marina2(uint64_t seed) {
   a.scene.vehicle_depth_m = 2.5;
   a.scene.seafloor_depth_m = 7.0;
   // Along the dolphins, up the east side, along the seawall, down the west wall.
-  // Starts 22 m before the east turn (see marina1).
+  // Starts 22 m before the east turn, so even a one-minute mission sees the east end head-on.
   a.scene.route = {{20, 4}, {42, 4}, {47, 18}, {42, 29}, {-40, 29}, {-47, 18}, {-45, 4}, {20, 4}};
   a.seafloor(-70, 70, -25, 37, 0.3);
   Rng rng(derive_seed(seed, 0x4d41524932ull));
