@@ -9,7 +9,7 @@ test: build
 demo: build
 	xvfb-run -a build/release/tools/orthosonar demo -o out/demo
 asan: deps
-	cmake --preset asan && cmake --build --preset asan -j2 && ctest --preset asan -j2
+	cmake --preset asan && cmake --build --preset asan -j2 && xvfb-run -a ctest --preset asan -j2 -LE golden
 bench: build
 	build/release/orthosonar_bench
 clean:

@@ -4,15 +4,52 @@
 #   <stage>_bench.cpp             Google Benchmark cases, linked into the one orthosonar_bench
 # New files are picked up on the next build (CONFIGURE_DEPENDS).
 
+# Warnings are errors only where asked for: ORTHOSONAR_WERROR (default ON when the
+# environment says CI=true, as our CI does; OFF for users, packagers and every preset that
+# does not set it). GCC 12 reports false positives at some optimisation levels
+# (-Wrestrict at -O3, -Wmaybe-uninitialized in <regex> under the sanitizers): a user's
+# build must never fail on them.
+if("$ENV{CI}" STREQUAL "true")
+  set(_orthosonar_werror_default ON)
+else()
+  set(_orthosonar_werror_default OFF)
+endif()
+option(ORTHOSONAR_WERROR "Treat compiler warnings in orthosonar's own code as errors" ${_orthosonar_werror_default})
+
 function(orthosonar_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wconversion -Werror
-    -Wno-error=deprecated-declarations)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wconversion)
+  if(ORTHOSONAR_WERROR)
+    target_compile_options(${target} PRIVATE -Werror -Wno-error=deprecated-declarations)
+  endif()
   # The reference build (SPEC §9): no FMA contraction, no fast-math, no -march=native.
   target_compile_options(${target} PRIVATE -ffp-contract=off)
 endfunction()
 
 set_property(GLOBAL PROPERTY ORTHOSONAR_BENCH_SOURCES "")
 set_property(GLOBAL PROPERTY ORTHOSONAR_BENCH_LIBS "")
+
+include(GNUInstallDirs)
+
+# Installs a library module and adds it to the orthosonar package (export set
+# orthosonarTargets, see cmake/OrthosonarInstall.cmake): orthosonar_<name> is known as
+# orthosonar::<name> both in this build (an ALIAS) and to find_package(orthosonar) users.
+# Its public headers (every *.hpp in the module folder except test helpers) go to
+# include/orthosonar/<folder>/, so "#include \"replay/fixture.hpp\"" works after install too.
+function(orthosonar_install_module target dir)
+  string(REGEX REPLACE "^orthosonar_" "" short ${target})
+  add_library(orthosonar::${short} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${short})
+  install(TARGETS ${target} EXPORT orthosonarTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  file(GLOB headers CONFIGURE_DEPENDS ${dir}/*.hpp)
+  list(FILTER headers EXCLUDE REGEX "/(test_support|test_dir|testing)\\.hpp$")
+  file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR} ${dir})
+  if(headers)
+    install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/orthosonar/${rel})
+  endif()
+  set_property(GLOBAL APPEND PROPERTY ORTHOSONAR_INSTALLED_MODULES ${target})
+endfunction()
 
 # orthosonar_module(<target> [DIR dir] LIBS <public deps...> [TEST_LIBS ...] [LABELS ...])
 function(orthosonar_module target)
@@ -42,14 +79,22 @@ function(orthosonar_module target)
     add_library(${target} INTERFACE)
   endif()
   get_target_property(kind ${target} TYPE)
+  # Headers are included as "core/...", "hal/...", "replay/..." and "orthosonar/version.hpp",
+  # in the build tree and installed alike (see orthosonar_install_module).
+  set(includes
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+    $<BUILD_INTERFACE:${CMAKE_BINARY_DIR}/generated>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/orthosonar>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   if(kind STREQUAL "INTERFACE_LIBRARY")
-    target_include_directories(${target} INTERFACE ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR}/generated)
+    target_include_directories(${target} INTERFACE ${includes})
     target_link_libraries(${target} INTERFACE ${M_LIBS})
   else()
-    target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR}/generated)
+    target_include_directories(${target} PUBLIC ${includes})
     target_link_libraries(${target} PUBLIC ${M_LIBS} PRIVATE ${M_PRIVATE_LIBS})
     orthosonar_warnings(${target})
   endif()
+  orthosonar_install_module(${target} ${M_DIR})
   if(ORTHOSONAR_BUILD_TESTS AND test_src)
     add_executable(${target}_tests ${test_src})
     target_link_libraries(${target}_tests PRIVATE ${target} ${M_TEST_LIBS} orthosonar_test_main)
@@ -76,7 +121,8 @@ endfunction()
 function(orthosonar_all_libraries out_var)
   set(libs "")
   foreach(t orthosonar_core orthosonar_perception orthosonar_slam orthosonar_mapping orthosonar_inference
-      orthosonar_hal orthosonar_sim orthosonar_drivers orthosonar_replay orthosonar_outputs orthosonar_reports)
+      orthosonar_hal orthosonar_sim orthosonar_drivers orthosonar_replay orthosonar_outputs orthosonar_reports
+      orthosonar_run)
     if(TARGET ${t})
       list(APPEND libs ${t})
     endif()

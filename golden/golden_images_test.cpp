@@ -38,7 +38,27 @@ fs::path fresh_dir(const std::string& name) {
 
 using Run = orthosonar::testing::CliRun;
 
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+// Command lines are built by appending, never by `"literal" + std::string` chains: GCC 12
+// at -O3 reports a false -Wrestrict inside those (issue 16).
+std::string quoted(const fs::path& p) {
+  std::string q;
+  q.reserve(p.native().size() + 2);
+  q.push_back('\'');
+  q.append(p.string());
+  q.push_back('\'');
+  return q;
+}
+
+// "golden <verb> '<scenario>' -o '<out>'"
+std::string golden_args(const std::string& verb, const fs::path& scenario, const fs::path& out) {
+  std::string a("golden ");
+  a.append(verb);
+  a.push_back(' ');
+  a.append(quoted(scenario));
+  a.append(" -o ");
+  a.append(quoted(out));
+  return a;
+}
 
 // `prefix` goes before the CLI (e.g. "env -u DISPLAY").
 Run cli(const std::string& args, const std::string& prefix = "") {
@@ -54,7 +74,7 @@ fs::path recorded_copy(const fs::path& dir) {
   REQUIRE(fs::exists(source));
   const fs::path copy = dir / "marina1.yaml";
   fs::copy_file(source, copy);
-  const Run u = cli("golden --update " + quoted(copy) + " -o " + quoted(dir / "out"));
+  const Run u = cli(golden_args("--update", copy, dir / "out"));
   INFO(u.out);
   REQUIRE(u.code == 0);
   REQUIRE(fs::exists(dir / "marina1" / "fusion_top.png"));
@@ -81,7 +101,7 @@ TEST_CASE("golden check passes an unchanged image and fails a changed one with a
   const fs::path scenario = recorded_copy(dir);
   const fs::path out = dir / "out";
 
-  const Run same = cli("golden --check " + quoted(scenario) + " -o " + quoted(out));
+  const Run same = cli(golden_args("--check", scenario, out));
   INFO(same.out);
   CHECK(same.code == 0);
   CHECK(contains(same.out, "PASS marina1"));
@@ -96,7 +116,7 @@ TEST_CASE("golden check passes an unchanged image and fails a changed one with a
   INFO("flipped score " << orthosonar::reports::image_difference(image, flipped));
   REQUIRE(cv::imwrite(stored.string(), flipped));
 
-  const Run changed = cli("golden --check " + quoted(scenario) + " -o " + quoted(out));
+  const Run changed = cli(golden_args("--check", scenario, out));
   INFO(changed.out);
   CHECK(changed.code == 1);
   CHECK(contains(changed.out, "FAIL marina1"));
@@ -107,18 +127,18 @@ TEST_CASE("golden check passes an unchanged image and fails a changed one with a
   CHECK(fs::exists(out / "marina1" / "threads1_run1" / "fusion_top.png"));
 
   // Digest and metrics alone still match: --no-images is the explicit way to skip images.
-  const Run skipped = cli("golden --check --no-images " + quoted(scenario) + " -o " + quoted(out));
+  const Run skipped = cli(golden_args("--check --no-images", scenario, out));
   INFO(skipped.out);
   CHECK(skipped.code == 0);
   CHECK(contains(skipped.out, "image checks skipped"));
 
   // --update reports the changed image with its score, then the copy passes again.
-  const Run update = cli("golden --update " + quoted(scenario) + " -o " + quoted(out));
+  const Run update = cli(golden_args("--update", scenario, out));
   INFO(update.out);
   CHECK(update.code == 0);
   CHECK(contains(update.out, "image fusion"));
   CHECK(contains(update.out, "(CHANGED, tolerance"));
-  CHECK(cli("golden --check " + quoted(scenario) + " -o " + quoted(out)).code == 0);
+  CHECK(cli(golden_args("--check", scenario, out)).code == 0);
 }
 
 TEST_CASE("golden check without an X display fails and says to run under xvfb-run", "[golden]") {
@@ -127,13 +147,13 @@ TEST_CASE("golden check without an X display fails and says to run under xvfb-ru
   const fs::path scenario = recorded_copy(dir);
   const fs::path out = dir / "out";
 
-  const Run r = cli("golden --check " + quoted(scenario) + " -o " + quoted(out), "env -u DISPLAY");
+  const Run r = cli(golden_args("--check", scenario, out), "env -u DISPLAY");
   INFO(r.out);
   CHECK(r.code == 1);
   CHECK(contains(r.out, "FAIL marina1"));
   CHECK(contains(r.out, "xvfb-run -a"));
 
-  const Run skipped = cli("golden --check --no-images " + quoted(scenario) + " -o " + quoted(out), "env -u DISPLAY");
+  const Run skipped = cli(golden_args("--check --no-images", scenario, out), "env -u DISPLAY");
   INFO(skipped.out);
   CHECK(skipped.code == 0);
 }

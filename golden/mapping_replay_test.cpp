@@ -1,7 +1,8 @@
-// End-to-end determinism of the mapping pipeline through the CLI, on a short
-// reduced-resolution simulated mission: the same fixture replayed three times and with 1
-// and 2 threads gives one digest; verify accepts it and rejects a tampered digest naming
-// the output; the output directory follows the outputs contract.
+// End-to-end determinism of the mapping pipeline on a short reduced-resolution simulated
+// mission, in-process through the run API (replay/run/run.hpp): the same fixture replayed
+// five times and with 1, 2, 4 and 8 threads gives one digest, and the output directory
+// follows the outputs contract. The CLI's verify (exit codes, naming a tampered output) is
+// checked through the executable, as a user runs it.
 #include <catch2/catch.hpp>
 #include <cctype>
 #include <cstdio>
@@ -11,7 +12,10 @@
 #include <sstream>
 #include <string>
 
+#include "replay/testing.hpp"
 #include "golden/cli_runner.hpp"
+#include "replay/run/mission.hpp"
+#include "replay/run/run.hpp"
 
 namespace fs = std::filesystem;
 
@@ -20,13 +24,7 @@ namespace {
 // Each test case runs as its own ctest process, possibly in parallel with the others, so
 // each gets its own directory (and its own fixture) under golden_mapping/.
 fs::path test_dir() {
-  const char* env = std::getenv("ORTHOSONAR_TEST_OUT");
-  std::string name = Catch::getResultCapture().getCurrentTestName();
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  fs::path d = fs::path(env ? env : fs::temp_directory_path().string()) / "golden_mapping" / name;
-  fs::create_directories(d);
-  return d;
+  return orthosonar::replay::testing::case_dir("golden_mapping", Catch::getResultCapture().getCurrentTestName());
 }
 
 using Run = orthosonar::testing::CliRun;
@@ -44,8 +42,13 @@ std::string last_line(const std::string& s) {
 const fs::path& fixture() {
   static const fs::path f = [] {
     const fs::path path = test_dir() / "harbor_short.mcap";
-    const Run r = run("simulate --scene harbor --duration 15 --resolution reduced -q -o " + path.string());
-    REQUIRE(r.code == 0);
+    orthosonar::run::MissionSpec spec;
+    spec.scene = "harbor";
+    spec.duration_s = 15.0;
+    spec.resolution = orthosonar::sim::Resolution::kReduced;
+    spec.seed = 1;
+    auto made = orthosonar::run::ensure_mission_fixture(spec, path.string());
+    REQUIRE(made.ok());
     return path;
   }();
   return f;
@@ -53,18 +56,23 @@ const fs::path& fixture() {
 
 }  // namespace
 
-TEST_CASE("replay gives one digest over 5 runs and with 1 2 and 4 threads", "[golden]") {
+TEST_CASE("replay gives one digest over 5 runs and with 1 2 4 and 8 threads", "[golden]") {
   const std::string f = fixture().string();
   std::string first;
   int i = 0;
-  // Five replays with one thread, then two and four threads (issue 4, SPEC §9): one digest.
-  for (const char* threads : {"1", "1", "1", "1", "1", "2", "4"}) {
-    const fs::path out = test_dir() / ("replay_" + std::to_string(i++));
-    const Run r = run("replay " + f + " -q --threads " + threads + " -o " + out.string());
-    REQUIRE(r.code == 0);
-    const std::string digest = last_line(r.out);
+  // Five replays with one thread, then two, four and eight (SPEC §9): one digest.
+  for (int threads : {1, 1, 1, 1, 1, 2, 4, 8}) {
+    orthosonar::run::RunOptions o;
+    o.threads_override = threads;
+    auto r = orthosonar::run::run_fixture(f, o);
+    REQUIRE(r.ok());
+    const std::string digest = r->digest.overall_hex;
     REQUIRE(digest.size() == 64);
-    if (first.empty()) first = digest;
+    if (first.empty()) {
+      first = digest;
+      REQUIRE(orthosonar::run::write_run_outputs(*r, o, (test_dir() / "replay_0").string()).ok());
+    }
+    INFO("run " << i++ << ", " << threads << " threads");
     CHECK(digest == first);
   }
   // The outputs contract.
@@ -74,6 +82,10 @@ TEST_CASE("replay gives one digest over 5 runs and with 1 2 and 4 threads", "[go
                            "fusion/metrics.json", "submap/map.pcd", "submap/map.ply", "submap/map.bt",
                            "submap/metrics.json"})
     CHECK(fs::exists(out / name));
+  // The CLI gives the library's digest.
+  const Run cli = run("replay " + f + " -q --threads 2 -o " + (test_dir() / "replay_cli").string());
+  REQUIRE(cli.code == 0);
+  CHECK(last_line(cli.out) == first);
 }
 
 TEST_CASE("verify accepts the digest and names a tampered output", "[golden]") {

@@ -6,6 +6,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "core/events.hpp"
 #include "core/result.hpp"
@@ -16,6 +18,23 @@ namespace orthosonar::replay {
 // Free-form metadata written as an MCAP metadata record named "orthosonar":
 // scene, seed, extrinsics, software version, ... Ordered map: deterministic bytes.
 using FixtureMetadata = std::map<std::string, std::string>;
+
+// A file embedded in a fixture as an MCAP Attachment record (the simulator embeds its
+// scene this way, hal/sim/scene.hpp embed_scene). Times are stream times or 0, never the
+// wall clock, so the fixture's bytes stay a pure function of the recording.
+struct Attachment {
+  std::string name;        // e.g. "orthosonar_scene.yaml"
+  std::string media_type;  // e.g. "application/yaml"
+  std::vector<uint8_t> data;
+  uint64_t log_time_ns = 0;
+  uint64_t create_time_ns = 0;
+  friend bool operator==(const Attachment&, const Attachment&) = default;
+};
+
+// The first attachment called `name`, or nullptr.
+const Attachment* find_attachment(const std::vector<Attachment>& attachments, std::string_view name);
+// name -> data (the first of equal names), the form hal/sim's scene_from_fixture takes.
+std::map<std::string, std::vector<uint8_t>> attachment_files(const std::vector<Attachment>& attachments);
 
 struct WriterOptions {
   bool compress = true;                          // zstd chunks
@@ -38,6 +57,11 @@ class FixtureWriter {
   // sticky. A chunk is written and flushed as soon as it closes (see WriterOptions), so a
   // killed process leaves a file readable up to its last complete chunk.
   virtual Status write(const Event& event) = 0;
+  // Writes an Attachment record (with its CRC) into the data section now, outside any
+  // chunk, and lists it in the summary (Attachment Index, Statistics). Write attachments
+  // right after open() so that a recording killed mid-write still holds them. Errors name
+  // the path; an attachment over 1 GiB or with an empty name is rejected.
+  virtual Status attach(const Attachment& attachment) = 0;
   // Writes the summary section and footer. The destructor closes too, ignoring errors.
   virtual Status close() = 0;
 };
@@ -58,11 +82,22 @@ struct RecoveryReport {
 class FixtureSource : public hal::EventSource {
  public:
   // Maps the file and scans its records (or the readable prefix of a truncated one, see
-  // recovery()); chunks are decoded lazily, only those overlapping the stream position
-  // are held in memory.
+  // recovery()); chunks (and runs of messages outside chunks) are decoded lazily, only
+  // those overlapping the stream position are held in memory, and file bytes are released
+  // once consumed: memory does not grow with the recording (issue 16).
   static Result<std::unique_ptr<FixtureSource>> open(const std::string& path);
   virtual const FixtureMetadata& metadata() const = 0;
   virtual const RecoveryReport& recovery() const = 0;
+  // What the source holds (tests, benchmarks): decoded events waiting to be yielded now
+  // and at most so far, and the chunks (or loose-message runs) decoded so far.
+  struct Holding {
+    size_t events = 0, peak_events = 0;
+    size_t chunks_read = 0;
+  };
+  virtual Holding holding() const = 0;
+  // The Attachment records in file order (CRC-checked when the scan met them; a
+  // truncated file keeps those before the cut). Old fixtures have none.
+  virtual const std::vector<Attachment>& attachments() const;
 };
 
 }  // namespace orthosonar::replay

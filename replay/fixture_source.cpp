@@ -1,7 +1,9 @@
 // FixtureSource: replays a fixture in (stamp, channel, sequence) order (SPEC §9),
 // whatever order the events were recorded in. Chunks are decoded lazily: a chunk is
 // opened once the earliest pending event is not before the chunk's start time, so only
-// the chunks overlapping the current stream time are held in memory.
+// the chunks overlapping the current stream time are held in memory; runs of messages
+// outside chunks are read the same way, and a chunk's file bytes are released from the
+// process once it is decoded. Memory is bounded by the chunks in use, not the file.
 #include <algorithm>
 #include <array>
 #include <numeric>
@@ -26,34 +28,37 @@ class McapSource final : public FixtureSource {
  public:
   McapSource(std::unique_ptr<mcap::MappedFile> file, mcap::Layout layout)
       : file_(std::move(file)), layout_(std::move(layout)) {
-    order_.resize(layout_.chunks.size());
-    std::iota(order_.begin(), order_.end(), size_t{0});
-    std::stable_sort(order_.begin(), order_.end(), [&](size_t a, size_t b) {
-      return layout_.chunks[a].start_ns < layout_.chunks[b].start_ns;
+    // Chunks and runs of loose messages alike are read when the stream reaches them.
+    for (const auto& c : layout_.chunks) order_.push_back(&c);
+    for (const auto& c : layout_.loose_runs) order_.push_back(&c);
+    std::stable_sort(order_.begin(), order_.end(), [](const mcap::ChunkRef* a, const mcap::ChunkRef* b) {
+      return a->start_ns < b->start_ns;
     });
-    heap_ = std::move(layout_.loose_messages);
-    layout_.loose_messages.clear();
-    std::make_heap(heap_.begin(), heap_.end(), later);
   }
 
   const FixtureMetadata& metadata() const override { return layout_.metadata; }
   const RecoveryReport& recovery() const override { return layout_.recovery; }
+  const std::vector<Attachment>& attachments() const override { return layout_.attachments; }
   std::string describe() const override { return "fixture:" + file_->path(); }
+  Holding holding() const override { return holding_; }
 
   hal::Pulled next() override {
     if (error_) return hal::Pulled::fail(*error_);
     while (next_chunk_ < order_.size()) {
-      const auto& c = layout_.chunks[order_[next_chunk_]];
+      const auto& c = *order_[next_chunk_];
       if (!heap_.empty() && static_cast<uint64_t>(heap_.front().event.stamp.ns()) < c.start_ns) break;
       const size_t before = heap_.size();
       if (auto s = mcap::read_chunk(*file_, layout_, c, heap_, scratch_); !s) return fail(s.error());
       for (size_t i = before; i < heap_.size(); ++i) std::push_heap(heap_.begin(), heap_.begin() + static_cast<ptrdiff_t>(i) + 1, later);
       ++next_chunk_;
+      ++holding_.chunks_read;
+      holding_.peak_events = std::max(holding_.peak_events, heap_.size());
     }
     if (heap_.empty()) return hal::Pulled::end();
     std::pop_heap(heap_.begin(), heap_.end(), later);
     LocatedEvent e = std::move(heap_.back());
     heap_.pop_back();
+    holding_.events = heap_.size();
     // Within a channel, yielding in stamp order must also be sequence order; otherwise
     // the recording has stamps going backwards while sequences go forwards.
     auto& last = last_[static_cast<size_t>(e.event.channel)];
@@ -72,13 +77,15 @@ class McapSource final : public FixtureSource {
   hal::Pulled fail(Error e) {
     error_ = e;
     heap_.clear();
+    holding_.events = 0;
     return hal::Pulled::fail(std::move(e));
   }
 
   std::unique_ptr<mcap::MappedFile> file_;
   mcap::Layout layout_;
-  std::vector<size_t> order_;
+  std::vector<const mcap::ChunkRef*> order_;  // chunks and loose runs by start time
   size_t next_chunk_ = 0;
+  Holding holding_;
   std::vector<LocatedEvent> heap_;
   std::vector<uint8_t> scratch_;
   std::array<std::optional<LocatedEvent>, kChannelCount> last_{};
@@ -93,7 +100,7 @@ Result<std::unique_ptr<FixtureSource>> FixtureSource::open(const std::string& pa
   auto layout = mcap::scan(**file);
   if (!layout) return layout.error();
   if (layout->recovery.complete) {
-    uint64_t n = layout->loose_messages.size();
+    uint64_t n = layout->loose_message_count;
     if (layout->statistics) n = layout->statistics->message_count;
     layout->recovery.messages_recovered = n;
   }

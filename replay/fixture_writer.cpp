@@ -1,7 +1,8 @@
 // FixtureWriter: an append-only MCAP writer (mcap.dev/spec). Layout:
-//   magic, Header, Metadata "orthosonar", then per first use of a channel its Schema and
-//   Channel records, then Chunks each followed by its Message Index records, then Data
-//   End (data section CRC), the summary (schemas, channels, statistics, metadata index,
+//   magic, Header, Metadata "orthosonar", Attachments (when attach() is called, e.g. the
+//   simulator's scene), then per first use of a channel its Schema and Channel records,
+//   then Chunks each followed by its Message Index records, then Data End (data section
+//   CRC), the summary (schemas, channels, statistics, metadata index, attachment indexes,
 //   chunk indexes), Summary Offsets, Footer (summary CRC), magic.
 // Every chunk is written and flushed as soon as it closes, so a process killed mid-write
 // leaves a file readable up to its last complete chunk.
@@ -31,6 +32,11 @@ void put_record(CanonicalWriter& out, Op op, const CanonicalWriter& content) {
   out.put_u64(content.size());
   out.put_bytes(content.bytes());
 }
+
+struct AttachmentIndexEntry {
+  uint64_t offset = 0, length = 0, log_time = 0, create_time = 0, data_size = 0;
+  std::string name, media_type;
+};
 
 struct ChunkIndexEntry {
   uint64_t start_ns = 0, end_ns = 0, offset = 0, length = 0;
@@ -110,6 +116,29 @@ class McapWriter final : public FixtureWriter {
     last_ns_ = std::max(last_ns_, stamp);
     if (chunk_.size() >= opt_.chunk_max_bytes) return flush_chunk();
     return {};
+  }
+
+  Status attach(const Attachment& a) override {
+    if (f_ == nullptr) return reject("attach after close");
+    if (!error_.empty()) return Error{error_};
+    if (a.name.empty()) return reject("attachment without a name");
+    if (a.data.size() > mcap::kMaxAttachmentBytes)
+      return reject("attachment '" + a.name + "' has " + std::to_string(a.data.size()) + " bytes (at most " +
+                    std::to_string(mcap::kMaxAttachmentBytes) + ")");
+    CanonicalWriter c;
+    c.put_u64(a.log_time_ns);
+    c.put_u64(a.create_time_ns);
+    c.put_string(a.name);
+    c.put_string(a.media_type);
+    c.put_u64(a.data.size());
+    c.put_bytes(a.data.data(), a.data.size());
+    c.put_u32(mcap::crc32(0, c.bytes().data(), c.size()));  // CRC of every preceding field
+    CanonicalWriter out;
+    put_record(out, Op::kAttachment, c);
+    AttachmentIndexEntry ix{offset_, out.size(), a.log_time_ns, a.create_time_ns, a.data.size(), a.name, a.media_type};
+    if (auto s = emit(out.bytes()); !s) return s;
+    attachments_.push_back(std::move(ix));
+    return flush();
   }
 
   Status close() override {
@@ -285,7 +314,7 @@ class McapWriter final : public FixtureWriter {
       for (bool b : channel_written_) channels += b ? 1u : 0u;
       c.put_u16(schemas);
       c.put_u32(channels);
-      c.put_u32(0);  // attachments
+      c.put_u32(static_cast<uint32_t>(attachments_.size()));
       c.put_u32(1);  // metadata
       c.put_u32(static_cast<uint32_t>(chunks_.size()));
       c.put_u64(first_ns_);
@@ -303,6 +332,19 @@ class McapWriter final : public FixtureWriter {
       c.put_u64(metadata_length_);
       c.put_string(mcap::kMetadataName);
       put_record(sum, Op::kMetadataIndex, c);
+    });
+    group(Op::kAttachmentIndex, [&] {
+      for (const auto& ix : attachments_) {
+        CanonicalWriter c;
+        c.put_u64(ix.offset);
+        c.put_u64(ix.length);
+        c.put_u64(ix.log_time);
+        c.put_u64(ix.create_time);
+        c.put_u64(ix.data_size);
+        c.put_string(ix.name);
+        c.put_string(ix.media_type);
+        put_record(sum, Op::kAttachmentIndex, c);
+      }
     });
     group(Op::kChunkIndex, [&] {
       for (const auto& ix : chunks_) {
@@ -359,6 +401,7 @@ class McapWriter final : public FixtureWriter {
   uint64_t chunk_start_ = 0, chunk_end_ = 0;
   std::map<uint16_t, std::vector<std::pair<uint64_t, uint64_t>>> chunk_index_;
   std::vector<ChunkIndexEntry> chunks_;
+  std::vector<AttachmentIndexEntry> attachments_;
   uint64_t message_count_ = 0, first_ns_ = 0, last_ns_ = 0;
   std::map<uint16_t, uint64_t> channel_counts_;
 };

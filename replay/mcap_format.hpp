@@ -32,6 +32,9 @@ enum class Op : uint8_t {
 };
 inline constexpr uint8_t kMaxOpcode = 0x0F;
 
+// Largest Attachment data the writer stores and the reader accepts.
+inline constexpr uint64_t kMaxAttachmentBytes = uint64_t{1} << 30;
+
 // The CRC-32 of zlib/PNG (polynomial 0xEDB88320), as MCAP specifies. `crc` is a previous
 // result to continue from (0 to start).
 uint32_t crc32(uint32_t crc, const uint8_t* data, size_t n);

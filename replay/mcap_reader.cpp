@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -17,6 +18,9 @@ namespace orthosonar::replay::mcap {
 namespace {
 
 constexpr uint64_t kMaxChunkBytes = uint64_t{1} << 30;
+constexpr uint64_t kReleaseBytes = uint64_t{8} << 20;       // the scan releases what it read in steps of this
+constexpr uint64_t kMaxLooseRunBytes = uint64_t{8} << 20;   // a run of loose messages: at most this many bytes
+constexpr uint64_t kMaxLooseRunNs = 1'000'000'000;          // ... and this span of log time
 
 std::string hex(uint64_t v) {
   std::ostringstream s;
@@ -125,7 +129,7 @@ class Scanner {
         ByteReader r(body, len);
         const uint32_t stored = r.u32();
         if (!r.ok()) return at(path_, pos, "truncated Data End record");
-        const uint32_t actual = crc32(0, d, pos);
+        const uint32_t actual = data_crc_;  // of [0, pos): advance() kept it up to date
         if (stored != 0 && stored != actual)
           return at(path_, pos, "data section CRC mismatch (stored " + hex(stored) + ", computed " +
                                     hex(actual) + ")");
@@ -138,7 +142,9 @@ class Scanner {
       }
       pos += kRecordPrefix + len;
       good_end = pos;
+      advance(pos, !data_end);
     }
+    f_.release(0, size);  // the summary read above, and the tail of the data section
     L_.recovery.bytes_recovered = footer ? size : good_end;
     if (!footer && count_messages) {
       // A truncated recording: decode what is left so the count is honest and every
@@ -150,12 +156,26 @@ class Scanner {
         if (auto s = read_chunk(f_, L_, c, events, scratch); !s) return s.error();
         L_.recovery.messages_recovered += events.size();
       }
-      L_.recovery.messages_recovered += L_.loose_messages.size();
+      L_.recovery.messages_recovered += L_.loose_message_count;
     }
     return std::move(L_);
   }
 
  private:
+  // Bytes up to `end` are scanned: adds them to the data section CRC (while in the data
+  // section) and releases them from memory every few MiB, so a long recording is read
+  // once, front to back, and never resident as a whole.
+  void advance(uint64_t end, bool in_data_section) {
+    if (in_data_section) {
+      data_crc_ = crc32(data_crc_, f_.data() + crc_end_, end - crc_end_);
+      crc_end_ = end;
+    }
+    if (end - released_ >= kReleaseBytes) {
+      f_.release(released_, end - released_);
+      released_ = end;
+    }
+  }
+
   void truncated(uint64_t pos, const std::string& why) {
     L_.recovery.complete = false;
     L_.recovery.detail = path_ + ": " + why + " at byte offset " + std::to_string(pos) +
@@ -205,7 +225,7 @@ class Scanner {
       case Op::kChannel: return channel(pos, r);
       case Op::kMessage:
         if (in_summary) return at(path_, pos, "Message record in the summary section");
-        return decode_message(path_, L_, body, len, 0, pos, L_.loose_messages);
+        return loose_message(pos, body, len);
       case Op::kChunk: {
         if (in_summary) return at(path_, pos, "Chunk record in the summary section");
         ChunkRef c;
@@ -234,6 +254,29 @@ class Scanner {
           for (auto& [k, v] : m) L_.metadata[k] = v;
         break;
       }
+      case Op::kAttachment: {
+        if (in_summary) return at(path_, pos, "Attachment record in the summary section");
+        Attachment a;
+        a.log_time_ns = r.u64();
+        a.create_time_ns = r.u64();
+        a.name = r.str();
+        a.media_type = r.str();
+        const uint64_t size = r.u64();
+        if (!r.ok()) return at(path_, pos, "malformed Attachment record");
+        if (size > kMaxAttachmentBytes || size > r.remaining())
+          return at(path_, pos, "attachment '" + a.name + "' claims " + std::to_string(size) + " data bytes (record has " +
+                                    std::to_string(r.remaining()) + ", limit " + std::to_string(kMaxAttachmentBytes) + ")");
+        const uint8_t* data = r.take(size);
+        const size_t crc_end = r.pos();
+        const uint32_t stored = r.u32();
+        if (!r.ok()) return at(path_, pos, "attachment '" + a.name + "' has no CRC field");
+        if (const uint32_t actual = crc32(0, body, crc_end); stored != 0 && stored != actual)
+          return at(path_, pos, "attachment '" + a.name + "' CRC mismatch (stored " + hex(stored) + ", computed " +
+                                    hex(actual) + ")");
+        a.data.assign(data, data + size);
+        L_.attachments.push_back(std::move(a));
+        break;
+      }
       case Op::kStatistics: {
         Statistics s;
         s.message_count = r.u64();
@@ -255,7 +298,7 @@ class Scanner {
         L_.statistics = s;
         break;
       }
-      default: break;  // indexes and attachments: the linear scan does not need them
+      default: break;  // indexes: the linear scan does not need them
     }
     if (!r.ok()) return at(path_, pos, "malformed record (opcode " + hex(op) + ")");
     return {};
@@ -287,10 +330,48 @@ class Scanner {
     return {};
   }
 
+  // A Message record outside chunks: checks its header and channel now (decoding waits
+  // for read_chunk) and adds it to the current run of loose messages, or starts a run.
+  Status loose_message(uint64_t pos, const uint8_t* body, uint64_t len) {
+    ByteReader r(body, len);
+    const uint16_t id = r.u16();
+    r.u32();
+    const uint64_t log_time = r.u64();
+    r.u64();
+    if (!r.ok()) return at(path_, pos, "truncated message record");
+    if (L_.channels.find(id) == L_.channels.end())
+      return at(path_, pos, "message on undefined channel id " + std::to_string(id));
+    if (log_time > static_cast<uint64_t>(INT64_MAX)) return at(path_, pos, "log time out of range");
+    const uint64_t end = pos + kRecordPrefix + len;
+    ChunkRef* run = L_.loose_runs.empty() ? nullptr : &L_.loose_runs.back();
+    if (run != nullptr) {
+      const uint64_t lo = std::min(run->start_ns, log_time), hi = std::max(run->end_ns, log_time);
+      if (run->records_offset + run->compressed_size != pos || end - run->records_offset > kMaxLooseRunBytes ||
+          hi - lo > kMaxLooseRunNs)
+        run = nullptr;
+    }
+    if (run == nullptr) {
+      ChunkRef c;
+      c.offset = c.records_offset = pos;
+      c.start_ns = c.end_ns = log_time;
+      c.loose = true;
+      run = &L_.loose_runs.emplace_back(std::move(c));
+    }
+    run->start_ns = std::min(run->start_ns, log_time);
+    run->end_ns = std::max(run->end_ns, log_time);
+    run->compressed_size = run->uncompressed_size = end - run->records_offset;
+    ++run->message_count;
+    ++L_.loose_message_count;
+    return {};
+  }
+
   const MappedFile& f_;
   const std::string& path_;
   Layout L_;
   std::map<uint16_t, Schema> schemas_;
+  uint32_t data_crc_ = 0;
+  uint64_t crc_end_ = 0;   // data_crc_ covers [0, crc_end_)
+  uint64_t released_ = 0;  // [0, released_) released
 };
 
 }  // namespace
@@ -324,6 +405,15 @@ Result<std::unique_ptr<MappedFile>> MappedFile::open(const std::string& path) {
   return f;
 }
 
+void MappedFile::release(uint64_t offset, uint64_t n) const {
+  if (data_ == nullptr || offset >= size_ || n == 0) return;
+  static const uint64_t page = static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
+  const uint64_t begin = offset / page * page;
+  const uint64_t end = std::min<uint64_t>(size_, offset + std::min<uint64_t>(n, size_ - offset));
+  // A read-only file mapping: dropped pages read back the same bytes from the file.
+  ::madvise(const_cast<uint8_t*>(data_) + begin, end - begin, MADV_DONTNEED);
+}
+
 MappedFile::~MappedFile() {
   if (data_ != nullptr) ::munmap(const_cast<uint8_t*>(data_), size_);
 }
@@ -335,6 +425,12 @@ Result<Layout> scan(const MappedFile& file, bool count_messages) {
 Status read_chunk(const MappedFile& file, const Layout& layout, const ChunkRef& c,
                   std::vector<LocatedEvent>& out, std::vector<uint8_t>& scratch) {
   const std::string& path = file.path();
+  // The chunk's file bytes are not needed once it is decoded (decoded events are copies).
+  struct Release {
+    const MappedFile& f;
+    const ChunkRef& c;
+    ~Release() { f.release(c.offset, c.records_offset + c.compressed_size - c.offset); }
+  } release{file, c};
   const uint8_t* src = file.data() + c.records_offset;
   const uint8_t* records = src;
   if (c.compression == "zstd") {
@@ -366,7 +462,10 @@ Status read_chunk(const MappedFile& file, const Layout& layout, const ChunkRef& 
       return Error{path + ": record runs past the end of the chunk at offset " + std::to_string(pos) +
                    " inside the chunk at byte offset " + std::to_string(c.offset)};
     if (op == static_cast<uint8_t>(Op::kMessage)) {
-      if (auto s = decode_message(path, layout, r.here(), len, c.offset, pos, out); !s) return s;
+      // Loose messages are located by file offset, as outside chunks they are.
+      const Status s = c.loose ? decode_message(path, layout, r.here(), len, 0, c.records_offset + pos, out)
+                               : decode_message(path, layout, r.here(), len, c.offset, pos, out);
+      if (!s) return s;
     } else if (op != static_cast<uint8_t>(Op::kSchema) && op != static_cast<uint8_t>(Op::kChannel)) {
       return Error{path + ": unexpected opcode " + hex(op) + " at offset " + std::to_string(pos) +
                    " inside the chunk at byte offset " + std::to_string(c.offset)};

@@ -26,6 +26,11 @@ class MappedFile {
   const uint8_t* data() const { return data_; }
   size_t size() const { return size_; }
   const std::string& path() const { return path_; }
+  // Drops the pages of [offset, offset + n) (widened to whole pages) from this process's
+  // resident set; the bytes stay readable (a later read faults them back in from the page
+  // cache). The scan and read_chunk release what they have consumed, so replaying a
+  // recording keeps only the chunks in use resident, not the file (issue 16).
+  void release(uint64_t offset, uint64_t n) const;
 
  private:
   MappedFile() = default;
@@ -42,6 +47,10 @@ struct ChunkRef {
   uint32_t uncompressed_crc = 0;
   std::string compression;      // "" or "zstd"
   uint64_t start_ns = 0, end_ns = 0;
+  // A run of Message records outside chunks (Layout::loose_runs), read like an
+  // uncompressed chunk: offset = records_offset = its first record's file offset.
+  bool loose = false;
+  uint64_t message_count = 0;  // loose runs only
 };
 
 struct ChannelRef {
@@ -71,7 +80,12 @@ struct Layout {
   FixtureMetadata metadata;
   std::map<uint16_t, ChannelRef> channels;
   std::vector<ChunkRef> chunks;              // in file order
-  std::vector<LocatedEvent> loose_messages;  // Message records outside chunks
+  // Message records outside chunks, in runs of consecutive records (each at most one
+  // second of log time and 8 MiB): the scan checks their headers and channels only; the
+  // messages are decoded lazily, run by run, like chunks (read_chunk).
+  std::vector<ChunkRef> loose_runs;
+  uint64_t loose_message_count = 0;
+  std::vector<Attachment> attachments;       // Attachment records (CRC-checked), file order
   std::optional<Statistics> statistics;      // from the summary, when present
   RecoveryReport recovery;
 };
@@ -82,8 +96,9 @@ struct Layout {
 // (and CRC-check) the messages recovered.
 Result<Layout> scan(const MappedFile& file, bool count_messages = true);
 
-// Decompresses a chunk, checks its CRC, and appends its messages (decoded) to `out`.
-// `scratch` is reused between calls.
+// Decompresses a chunk (or reads a run of loose messages), checks its CRC, and appends
+// its messages (decoded) to `out`, then releases the chunk's file bytes
+// (MappedFile::release). `scratch` is reused between calls.
 Status read_chunk(const MappedFile& file, const Layout& layout, const ChunkRef& chunk,
                   std::vector<LocatedEvent>& out, std::vector<uint8_t>& scratch);
 

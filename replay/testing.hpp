@@ -1,5 +1,6 @@
 #pragma once
 // Helpers for tests of the replay folder (header-only; not part of the library API).
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,19 @@ inline std::string test_dir(const std::string& name) {
   const auto dir = base / "replay" / name;
   std::filesystem::create_directories(dir);
   return dir.string();
+}
+
+// $ORTHOSONAR_TEST_OUT/<group>/<test name with non-alphanumerics as '_'>: one directory per
+// test case (ctest runs cases as parallel processes). `fresh` empties it first.
+inline std::filesystem::path case_dir(const std::string& group, std::string test_name, bool fresh = false) {
+  for (char& c : test_name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  const char* env = std::getenv("ORTHOSONAR_TEST_OUT");
+  const std::filesystem::path d =
+      std::filesystem::path(env != nullptr ? env : std::filesystem::temp_directory_path().string()) / group / test_name;
+  if (fresh) std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
 }
 
 inline std::vector<uint8_t> read_bytes(const std::string& path) {

@@ -9,7 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "reports/ply_io.hpp"
+#include "hal/sim/mesh_io.hpp"
+#include "replay/outputs/map_writers.hpp"
 
 namespace orthosonar::reports {
 namespace fs = std::filesystem;
@@ -131,7 +132,7 @@ Result<RunData> load_run(const std::string& dir) {
   run.dr = optional_tum(root / "traj_dr.tum", run.notes);
   run.slam = optional_tum(root / "traj_slam.tum", run.notes);
   if (fs::exists(root / "scene_mesh.ply")) {
-    auto m = read_ply((root / "scene_mesh.ply").string());
+    auto m = sim::read_mesh_ply((root / "scene_mesh.ply").string());
     if (m) run.mesh = std::move(m.value());
     else run.notes.push_back(m.error().message);
   } else {
@@ -143,7 +144,7 @@ Result<RunData> load_run(const std::string& dir) {
     SystemOutput s;
     s.name = name;
     if (fs::exists(sdir / "map.ply")) {
-      auto pts = read_ply_points((sdir / "map.ply").string());
+      auto pts = outputs::read_cloud((sdir / "map.ply").string());
       if (pts) {
         s.map_W = std::move(pts.value());
         s.has_map = true;

@@ -8,7 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/random.hpp"
-#include "reports/ply_io.hpp"
+#include "hal/sim/mesh_io.hpp"
+#include "replay/outputs/map_writers.hpp"
 #include "reports/run_data.hpp"
 
 namespace orthosonar::reports {
@@ -115,7 +116,7 @@ Status write_synthetic_run(const std::string& dir, const SyntheticRunConfig& con
   Rng rng(derive_seed(config.seed, 0x5e9u));
 
   if (config.with_mesh)
-    if (auto s = write_ply_mesh((root / "scene_mesh.ply").string(), scene_mesh()); !s) return s;
+    if (auto s = sim::write_mesh_ply(scene_mesh(), (root / "scene_mesh.ply").string()); !s) return s;
   const Trajectory truth = truth_loop();
   Trajectory dr = truth, slam = truth;
   for (size_t i = 0; i < truth.size(); ++i) {
@@ -153,7 +154,7 @@ Status write_synthetic_run(const std::string& dir, const SyntheticRunConfig& con
       map.emplace_back(static_cast<float>(x + config.map_shift_m), static_cast<float>(y), static_cast<float>(z));
     }
     fs::create_directories(root / systems[si], ec);
-    if (auto s = write_ply_points((root / systems[si] / "map.ply").string(), map); !s) return s;
+    if (auto s = outputs::write_ply((root / systems[si] / "map.ply").string(), map); !s) return s;
     const json metrics = {{"system", systems[si]},
                           {"coverage_voxels", static_cast<double>(map.size()) * 0.8},
                           {"mae_m", 0.05 + 0.01 * static_cast<double>(si)},

@@ -9,8 +9,8 @@
 #include "orthosonar/version.hpp"
 #include "reports/report.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_mission.hpp"
-#include "tools/support_pipeline.hpp"
+#include "replay/run/mission.hpp"
+#include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
 int run_selfcheck();
@@ -86,9 +86,9 @@ int run_demo(const DemoOptions& o) {
   if (!*made) std::cout << "demo: reusing " << fixture << "\n";
 
   RunOptions options;
-  options.config.threads = o.threads;
+  options.threads_override = o.threads;
   options.systems = {"fusion", "submap"};
-  auto r = replay_file(fixture, options, true);
+  auto r = run_fixture(fixture, options, progress_bar_control("replay", true));
   if (!r.ok()) {
     std::cerr << "orthosonar demo: " << r.error().message << "\n";
     return 2;

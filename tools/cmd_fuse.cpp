@@ -14,8 +14,9 @@
 #include "core/perception/fusion.hpp"
 #include "core/perception/pairing.hpp"
 #include "replay/fixture.hpp"
+#include "replay/outputs/map_writers.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_config.hpp"
+#include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -31,36 +32,17 @@ struct FuseArgs {
   std::string config_path;
 };
 
-// "x y z roll pitch yaw" (metres, radians) as fixture metadata stores extrinsics.
-bool parse_pose6(const std::string& s, SE3& T) {
-  std::istringstream in(s);
-  double v[6];
-  for (double& x : v)
-    if (!(in >> x)) return false;
-  T = se3_from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5]);
-  return true;
-}
-
-// ASCII PCD v0.7: fixed field order and formatting, so bytes are deterministic.
+// ASCII PCD (outputs::write_pcd_fields, through pcl::io): fixed field order and
+// formatting, so bytes are deterministic. Vehicle frame V; metres and radians.
 Status write_pcd(const fs::path& path, const std::vector<FusedPoint>& pts) {
-  std::ofstream f(path, std::ios::binary);
-  if (!f) return Error{"cannot write '" + path.string() + "'"};
-  f << "# .PCD v0.7 - orthosonar fused points, vehicle frame V (m, rad)\n"
-    << "VERSION 0.7\nFIELDS x y z intensity_h intensity_v confidence range bearing elevation\n"
-    << "SIZE 4 4 4 4 4 4 4 4 4\nTYPE F F F F F F F F F\nCOUNT 1 1 1 1 1 1 1 1 1\n"
-    << "WIDTH " << pts.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << pts.size()
-    << "\nDATA ascii\n";
-  char line[256];
-  for (const FusedPoint& p : pts) {
-    std::snprintf(line, sizeof line, "%.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f\n",
-                  static_cast<double>(p.p_V.x()), static_cast<double>(p.p_V.y()), static_cast<double>(p.p_V.z()),
-                  static_cast<double>(p.intensity_h), static_cast<double>(p.intensity_v),
-                  static_cast<double>(p.confidence), static_cast<double>(p.range_m),
-                  static_cast<double>(p.bearing_rad), static_cast<double>(p.elevation_rad));
-    f << line;
-  }
-  if (!f) return Error{"failed writing '" + path.string() + "'"};
-  return {};
+  std::vector<float> values;
+  values.reserve(pts.size() * 9);
+  for (const FusedPoint& p : pts)
+    values.insert(values.end(), {p.p_V.x(), p.p_V.y(), p.p_V.z(), p.intensity_h, p.intensity_v, p.confidence,
+                                 p.range_m, p.bearing_rad, p.elevation_rad});
+  return outputs::write_pcd_fields(path.string(),
+                                   {"x", "y", "z", "intensity_h", "intensity_v", "confidence", "range", "bearing", "elevation"},
+                                   values, outputs::PcdEncoding::kAscii);
 }
 
 int run_fuse(const FuseArgs& a) {
@@ -69,22 +51,23 @@ int run_fuse(const FuseArgs& a) {
     std::cerr << "orthosonar fuse: " << src.error().message << "\n";
     return 2;
   }
-  RunConfig run;
-  const auto& meta = (*src)->metadata();
-  for (const auto& [key, target] : {std::pair<const char*, SE3*>{"T_V_h", &run.pipeline.fusion.T_V_h},
-                                    std::pair<const char*, SE3*>{"T_V_v", &run.pipeline.fusion.T_V_v}}) {
-    auto it = meta.find(key);
-    if (it != meta.end() && !parse_pose6(it->second, *target)) {
-      std::cerr << "orthosonar fuse: fixture metadata " << key << " '" << it->second << "' is not 'x y z roll pitch yaw'\n";
-      return 2;
-    }
-  }
+  // The run API's precedence: defaults < the fixture's extrinsics < --config.
+  RunOptions options;
   if (!a.config_path.empty()) {
-    if (Status s = load_config_file(a.config_path, run); !s.ok()) {
-      std::cerr << "orthosonar fuse: " << s.error().message << "\n";
+    auto text = read_config_text(a.config_path);
+    if (!text.ok()) {
+      std::cerr << "orthosonar fuse: " << text.error().message << "\n";
       return 2;
     }
+    options.config_yaml = *text;
+    options.config_origin = a.config_path;
   }
+  auto resolved = effective_config((*src)->metadata(), options);
+  if (!resolved.ok()) {
+    std::cerr << "orthosonar fuse: " << a.fixture << ": " << resolved.error().message << "\n";
+    return 2;
+  }
+  const RunConfig run = *resolved;
   const FusionConfig& cfg = run.pipeline.fusion;
   std::error_code ec;
   const fs::path out(a.out_dir), pairs_dir = out / "pairs";

@@ -34,7 +34,7 @@
 #include "reports/render.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_golden_images.hpp"
-#include "tools/support_pipeline.hpp"
+#include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -131,11 +131,15 @@ Result<RunOutput> run_scenario(const Scenario& s, int threads) {
 
   RunOptions o;
   o.systems = s.systems;
-  o.config.threads = threads;
-  o.config.pipeline.slam.kf_distance_m = s.kf_distance_m;
-  o.config.pipeline.slam.kf_rotation_deg = s.kf_rotation_deg;
-  apply_mission_start(metadata, o.config);
-  return run_pipeline(simulator, metadata, o, mesh);
+  o.threads_override = threads;
+  o.adjust = [&s](RunConfig& c) {
+    c.pipeline.slam.kf_distance_m = s.kf_distance_m;
+    c.pipeline.slam.kf_rotation_deg = s.kf_rotation_deg;
+  };
+  auto config = effective_config(metadata, o);
+  if (!config.ok()) return config.error();
+  o.config = *config;
+  return run_source(simulator, metadata, o, mesh);
 }
 
 void print_metrics(const std::map<std::string, double>& m) {

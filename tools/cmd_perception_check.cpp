@@ -25,7 +25,7 @@
 #include "hal/sim/scene.hpp"
 #include "hal/sim/simulator.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_config.hpp"
+#include "tools/support_run_args.hpp"
 #include "core/result.hpp"
 
 namespace orthosonar::cli {

@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "tools/cli.hpp"
-#include "tools/support_pipeline.hpp"
+#include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -21,7 +21,9 @@ int run_replay(const ReplayArgs& a) {
     std::cerr << "orthosonar replay: " << options.error().message << "\n";
     return 2;
   }
-  auto r = replay_file(a.fixture, *options, !a.quiet);
+  std::string warning;
+  auto r = run_fixture(a.fixture, *options, progress_bar_control("replay", !a.quiet), &warning);
+  if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
   if (!r.ok()) {
     std::cerr << "orthosonar replay: " << r.error().message << "\n";
     return 2;

@@ -17,7 +17,7 @@
 #include "replay/fixture.hpp"
 #include "replay/recording.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_pipeline.hpp"
+#include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -78,6 +78,7 @@ int run_live(const RunArgs& a) {
     return 2;
   }
   replay::FixtureMetadata meta;
+  std::vector<replay::Attachment> scene_files;  // the --metadata-from fixture's embedded scene
   if (!a.metadata_from.empty()) {
     auto f = replay::FixtureSource::open(a.metadata_from);
     if (!f) {
@@ -85,6 +86,7 @@ int run_live(const RunArgs& a) {
       return 2;
     }
     meta = (*f)->metadata();
+    scene_files = (*f)->attachments();
   }
   std::ifstream yin(a.devices);
   std::stringstream yaml;
@@ -95,6 +97,15 @@ int run_live(const RunArgs& a) {
   meta["live_start_unix_ns"] = std::to_string(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
   meta["software_version"] = kVersion;
+  // defaults < the --metadata-from fixture's extrinsics and mission start < --config < flags
+  RunOptions ro = *options;
+  ConfigSources sources;
+  auto run_config = effective_config(meta, ro, &sources, scene_files);
+  if (!run_config.ok()) {
+    std::cerr << "orthosonar run: " << run_config.error().message << "\n";
+    return 2;
+  }
+  ro.config = *run_config;
 
   auto live_owned = std::make_unique<LiveSource>(*config);
   LiveSource* live = live_owned.get();
@@ -128,11 +139,9 @@ int run_live(const RunArgs& a) {
       }
     }
   });
-  RunOptions ro = *options;
-  apply_mission_start(meta, ro.config);
   std::string note;
-  const auto mesh = load_truth_mesh(meta, ro.mesh_path, note);
-  auto result = run_pipeline(*source, meta, ro, mesh);
+  const auto mesh = load_truth_mesh(meta, ro.mesh_path, note, scene_files);
+  auto result = run_source(*source, meta, ro, mesh);
   done.store(true);
   idle.join();
   live->stop();
@@ -150,6 +159,7 @@ int run_live(const RunArgs& a) {
     return 2;
   }
   result->mesh_note = note;
+  result->config_sources = sources;
   if (Status s = write_run_outputs(*result, ro, a.out_dir); !s.ok()) {
     std::cerr << "orthosonar run: " << s.error().message << "\n";
     return 2;

@@ -1,5 +1,6 @@
 // `orthosonar simulate --scene harbor --duration 120 --seed 1 -o h.mcap`: runs the simulator
-// (hal/sim) and writes a fixture; the same arguments give a byte-identical file.
+// (hal/sim) and writes a fixture that embeds its scene (docs/SCENES.md); the same arguments
+// give a byte-identical file, wherever the scene file lives.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -83,6 +84,11 @@ int run_simulate(const SimulateArgs& a) {
     auto w = replay::FixtureWriter::open(partial, simulator.metadata());
     if (!w) return fail(w.error().message);
     writer = std::move(*w);
+    // The scene goes into the fixture (mesh, route, classes): replay needs no scene file.
+    auto files = sim::embed_scene(simulator.scene());
+    if (!files) return fail(files.error().message);
+    for (auto& f : *files)
+      if (Status s = writer->attach({f.name, f.media_type, std::move(f.data)}); !s) return fail(s.error().message);
   }
   std::vector<double> snaps = a.snapshot_at_s;
   std::sort(snaps.begin(), snaps.end());

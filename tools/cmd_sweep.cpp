@@ -15,9 +15,9 @@
 #include "reports/report.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_mission.hpp"
-#include "tools/support_pipeline.hpp"
-#include "tools/support_sweep.hpp"
+#include "replay/run/mission.hpp"
+#include "tools/support_run_args.hpp"
+#include "replay/run/sweep.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -80,29 +80,11 @@ int run_sweep(SweepArgs a) {
 
   // Pass 2: the 15 cells over `threads` workers; results by cell index (deterministic).
   const auto cells = paper_grid();
-  std::vector<std::optional<Result<CellResult>>> results(cells.size());
-  std::atomic<size_t> next{0};
-  std::atomic<int> done{0};
-  std::mutex print_mu;
-  auto worker = [&] {
-    for (size_t i = next.fetch_add(1); i < cells.size(); i = next.fetch_add(1)) {
-      results[i] = run_cell(*prepared, *options, cells[i]);
-      const int d = ++done;
-      std::lock_guard lock(print_mu);
-      print_progress("cells", static_cast<double>(d) / static_cast<double>(cells.size()),
-                     std::to_string(d) + "/" + std::to_string(cells.size()));
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  std::vector<CellResult> ok;
-  for (auto& r : results) {
-    if (!r->ok()) return fail(r->error().message);
-    ok.push_back(std::move(r->value()));
-  }
-  const SweepReport report = make_sweep_report(*prepared, ok);
+  auto ok = run_cells(*prepared, *options, cells, threads, [](size_t d, size_t n) {
+    print_progress("cells", static_cast<double>(d) / static_cast<double>(n), std::to_string(d) + "/" + std::to_string(n));
+  });
+  if (!ok.ok()) return fail(ok.error().message);
+  const SweepReport report = make_sweep_report(*prepared, std::move(*ok));
   if (Status s = write_sweep_outputs(report, a.out_dir); !s.ok()) return fail(s.error().message);
   std::cout << sweep_tables_markdown(report);
 
@@ -111,10 +93,12 @@ int run_sweep(SweepArgs a) {
   // the heat maps. Skipped with --no-report.
   if (!a.no_report) {
     RunOptions ref = *options;
-    ref.config.threads = threads;
-    ref.config.pipeline.slam.kf_distance_m = 3.0;
-    ref.config.pipeline.slam.kf_rotation_deg = 30.0;
-    auto run = replay_file(fixture, ref, false);
+    ref.threads_override = threads;
+    ref.adjust = [](RunConfig& c) {  // the reference cell
+      c.pipeline.slam.kf_distance_m = 3.0;
+      c.pipeline.slam.kf_rotation_deg = 30.0;
+    };
+    auto run = run_fixture(fixture, ref);
     if (!run.ok()) return fail(run.error().message);
     if (Status s = write_run_outputs(*run, ref, a.out_dir); !s.ok()) return fail(s.error().message);
     const std::string report_dir = (fs::path(a.out_dir) / "report").string();

@@ -5,7 +5,7 @@
 #include <set>
 
 #include "tools/cli.hpp"
-#include "tools/support_pipeline.hpp"
+#include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -37,7 +37,9 @@ int run_verify(VerifyArgs a) {
     std::cerr << "orthosonar verify: " << options.error().message << "\n";
     return 2;
   }
-  auto r = replay_file(a.fixture, *options, false);
+  std::string warning;
+  auto r = run_fixture(a.fixture, *options, {}, &warning);
+  if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
   if (!r.ok()) {
     std::cerr << "orthosonar verify: " << r.error().message << "\n";
     return 2;

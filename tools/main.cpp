@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/inference/numeric_pins.hpp"
 #include "orthosonar/version.hpp"
 #include "tools/cli.hpp"
 
@@ -24,6 +25,10 @@ bool register_command(Command command) {
 
 int main(int argc, char** argv) {
   using namespace orthosonar;
+  // Before anything else runs: pin what the CPU or the core count would otherwise choose
+  // (torch kernels and threads, BLAS and OpenCV threads, OpenCV dispatch); `orthosonar
+  // selfcheck` prints each pin and its effective value.
+  inference::apply_numeric_pins();
   CLI::App app{"orthosonar: dense 3D maps from orthogonal imaging sonars, deterministic replay and verification"};
   app.set_version_flag("--version", std::string("orthosonar ") + kVersion);
   app.require_subcommand(1);

@@ -1,6 +1,8 @@
 // The only translation unit of orthosonar_inference that includes libtorch.
 #include "core/inference/classifier.hpp"
 
+#include <ATen/Version.h>
+#include <dlfcn.h>
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -34,13 +36,80 @@ void fill_mask(float* out, int64_t rows, int64_t cols, double p, Rng& rng) {
 
 }  // namespace
 
-void InferenceRuntime::configure(int threads, uint64_t seed) {
+namespace {
+
+// oneDNN's C API, reached through the dynamic linker (libtorch links libdnnl; its headers are
+// not part of libtorch's). Values of dnnl_cpu_isa_t, stable since oneDNN 1.x.
+constexpr int kDnnlIsaSse41 = 0x1;
+using DnnlSetMaxIsa = int (*)(int);
+using DnnlGetEffectiveIsa = int (*)();
+
+std::string dnnl_isa_name(int isa) {
+  switch (isa) {
+    case 0x1: return "sse41";
+    case 0x3: return "avx";
+    case 0x7: return "avx2";
+    case 0x27: return "avx512_core";
+    default: {
+      std::ostringstream os;
+      os << "isa 0x" << std::hex << isa;
+      return os.str();
+    }
+  }
+}
+
+}  // namespace
+
+void InferenceRuntime::pin_cpu_kernels() {
+  // ATen computes its capability once, at the first dispatch, from this variable; an
+  // existing value is overridden (the pin is the pin).
+  ::setenv("ATEN_CPU_CAPABILITY", "default", 1);
+  // Returns an error once oneDNN has dispatched (the ISA is then fixed); status() reports
+  // what is in effect either way.
+  if (auto set_max = reinterpret_cast<DnnlSetMaxIsa>(::dlsym(RTLD_DEFAULT, "dnnl_set_max_cpu_isa"))) {
+    set_max(kDnnlIsaSse41);
+  }
+}
+
+InferenceRuntime::Status InferenceRuntime::status() {
+  Status st;
+  // at::show_config() reports the capability ATen dispatches with (computing it now if no
+  // operator ran yet, from ATEN_CPU_CAPABILITY), as "CPU capability usage: AVX2" (or "NO
+  // AVX" for DEFAULT).
+  const std::string config = at::show_config();
+  const std::string key = "CPU capability usage: ";
+  const auto at_key = config.find(key);
+  if (at_key != std::string::npos) {
+    const auto from = at_key + key.size();
+    st.aten_capability = config.substr(from, config.find('\n', from) - from);
+    if (st.aten_capability == "NO AVX") st.aten_capability = "DEFAULT";  // how 1.13 names DEFAULT
+  } else {
+    st.aten_capability = "unknown";
+  }
+  if (auto get = reinterpret_cast<DnnlGetEffectiveIsa>(::dlsym(RTLD_DEFAULT, "dnnl_get_effective_cpu_isa"))) {
+    st.onednn_isa = dnnl_isa_name(get());
+  } else {
+    st.onednn_isa = "absent";
+  }
+  st.intra_op_threads = torch::get_num_threads();
+  st.inter_op_threads = torch::get_num_interop_threads();
+  return st;
+}
+
+void InferenceRuntime::set_threads(int threads) {
   const int n = std::max(1, threads);
   torch::set_num_threads(n);
-  try {
-    torch::set_num_interop_threads(n);  // may only be set once per process
-  } catch (const c10::Error&) {
+  if (torch::get_num_interop_threads() != n) {
+    try {
+      torch::set_num_interop_threads(n);  // may only be set once per process
+    } catch (const c10::Error&) {
+    }
   }
+}
+
+void InferenceRuntime::configure(int threads, uint64_t seed) {
+  pin_cpu_kernels();
+  set_threads(threads);
   torch::manual_seed(seed);
 }
 

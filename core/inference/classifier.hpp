@@ -29,12 +29,34 @@ namespace orthosonar::inference {
 // Process-wide torch settings, made explicit (STYLE.md: no hidden global state in a
 // constructor). Call once at program start, before any Classifier is used:
 //   InferenceRuntime::configure(1, seed);
-// Sets torch's intra- and inter-op thread counts to `threads` (1 for the determinism
-// contract and the per-frame benchmark) and seeds torch's global generator (which this
-// library does not draw from, but third-party code might).
+// Pins torch's CPU kernels (pin_cpu_kernels), sets torch's intra- and inter-op thread
+// counts to `threads` (1 for the determinism contract and the per-frame benchmark) and
+// seeds torch's global generator (which this library does not draw from, but third-party
+// code might).
 class InferenceRuntime {
  public:
   static void configure(int threads, uint64_t seed);
+
+  // Pins what libtorch would otherwise choose from the CPU (docs/ARCHITECTURE.md,
+  // "Cross-machine determinism: pinned numerics"): ATen's kernel capability
+  // (ATEN_CPU_CAPABILITY=default, read once at ATen's first dispatch) and oneDNN's maximum
+  // ISA (SSE4.1, settable only before oneDNN's first primitive). Takes effect only before
+  // the first torch operator runs; later calls change nothing (the report says so).
+  // Idempotent; apply_numeric_pins() (numeric_pins.hpp) calls it.
+  static void pin_cpu_kernels();
+
+  // The effective torch settings, as libtorch reports them.
+  struct Status {
+    std::string aten_capability;  // "DEFAULT", "AVX2", "AVX512" (at::show_config)
+    std::string onednn_isa;       // "sse41", "avx2", ... (dnnl_get_effective_cpu_isa), or "absent"
+    int intra_op_threads = 0;
+    int inter_op_threads = 0;
+  };
+  static Status status();
+
+  // Torch's intra- and inter-op thread counts (the inter-op count can be set only once per
+  // process, before inter-op work; later attempts are ignored).
+  static void set_threads(int threads);
 };
 
 struct ClassifierConfig {

@@ -36,7 +36,7 @@ struct InferenceCounts {
 
 // Fused + inferred points per pair (V frame), keyed by the pair's stamp in ns. In submapping
 // mode every pair is inferred in stamp order whatever the keyframe setting, so one pass
-// can fill this and every cell of a sweep can reuse it (tools/support_sweep.cpp).
+// can fill this and every cell of a sweep can reuse it (replay/run/sweep.cpp).
 struct InferenceFrameCache {
   std::map<int64_t, std::vector<Eigen::Vector3f>> clouds;
 };

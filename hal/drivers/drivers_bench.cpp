@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -14,9 +15,13 @@ using namespace orthosonar::hal::drivers;
 
 namespace {
 
+// The capture is in the repository (testdata/oculus/, with its licence): found from
+// ORTHOSONAR_SOURCE when set, else relative to this source file.
 Bytes real_capture() {
-  const char* s = std::getenv("ORTHOSONAR_SHARED");
-  std::ifstream in(std::string(s ? s : "/work/shared") + "/fixtures/oculus/m1200d_one_ping_8bit.raw", std::ios::binary);
+  const char* s = std::getenv("ORTHOSONAR_SOURCE");
+  const std::filesystem::path root = s != nullptr && *s != '\0' ? std::filesystem::path(s)
+                                                                 : std::filesystem::path(__FILE__).parent_path() / ".." / "..";
+  std::ifstream in(root / "testdata" / "oculus" / "m1200d_one_ping_8bit.raw", std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 

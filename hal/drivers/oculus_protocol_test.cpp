@@ -9,7 +9,7 @@ using namespace orthosonar::hal::drivers;
 using namespace orthosonar::hal::drivers::oculus;
 
 TEST_CASE("real M1200d capture decodes with every header field checked", "[hal]") {
-  const auto raw = testing::read_file(testing::shared_dir() + "/fixtures/oculus/m1200d_one_ping_8bit.raw");
+  const auto raw = testing::read_file(testing::testdata("oculus/m1200d_one_ping_8bit.raw"));
   REQUIRE(raw.size() == 182016);
   auto r = parse_ping_result(raw);
   INFO((r ? std::string("ok") : r.error().message));
@@ -85,7 +85,7 @@ TEST_CASE("real M1200d capture decodes with every header field checked", "[hal]"
 }
 
 TEST_CASE("truncated real capture is an error at every cut", "[hal]") {
-  const auto raw = testing::read_file(testing::shared_dir() + "/fixtures/oculus/m1200d_one_ping_8bit.raw");
+  const auto raw = testing::read_file(testing::testdata("oculus/m1200d_one_ping_8bit.raw"));
   REQUIRE(raw.size() == 182016);
   for (size_t cut : {0ul, 1ul, 15ul, 16ul, 100ul, 121ul, 122ul, 700ul, 2048ul, 182015ul}) {
     auto r = parse_ping_result(std::span<const uint8_t>(raw.data(), cut));
@@ -141,7 +141,7 @@ TEST_CASE("fire messages V1 and V2 encode and decode", "[hal]") {
 }
 
 TEST_CASE("stream parser resynchronises on the id after garbage and split reads", "[hal]") {
-  const auto raw = testing::read_file(testing::shared_dir() + "/fixtures/oculus/m1200d_one_ping_8bit.raw");
+  const auto raw = testing::read_file(testing::testdata("oculus/m1200d_one_ping_8bit.raw"));
   REQUIRE(raw.size() == 182016);
   StatusMessage st;
   st.part_number = kPartM1200d;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,9 +13,15 @@
 
 namespace orthosonar::hal::drivers::testing {
 
-inline std::string shared_dir() {
-  const char* s = std::getenv("ORTHOSONAR_SHARED");
-  return s ? s : "/work/shared";
+// The repository's own test data (testdata/ at the top of the source tree, with the
+// licence and provenance of each capture). The test main sets ORTHOSONAR_SOURCE; a missing
+// file is an error that fails the test, never a silent skip.
+inline std::string testdata(const std::string& relative) {
+  const char* s = std::getenv("ORTHOSONAR_SOURCE");
+  if (s == nullptr || *s == '\0') throw std::runtime_error("ORTHOSONAR_SOURCE is not set: cannot find testdata/");
+  const std::filesystem::path p = std::filesystem::path(s) / "testdata" / relative;
+  if (!std::filesystem::is_regular_file(p)) throw std::runtime_error("missing test data file " + p.string());
+  return p.string();
 }
 
 inline std::filesystem::path test_out(const std::string& name) {
@@ -27,6 +34,7 @@ inline std::filesystem::path test_out(const std::string& name) {
 
 inline std::vector<uint8_t> read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open " + path);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 

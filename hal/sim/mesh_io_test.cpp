@@ -1,8 +1,13 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 
 #include "hal/sim/mesh_io.hpp"
 #include "hal/sim/primitives.hpp"
@@ -84,6 +89,254 @@ TEST_CASE("broken mesh files are errors that name the file", "[hal]") {
   CHECK(r.error().message.find("broken.ply") != std::string::npos);
   CHECK(!read_mesh(out_dir() + "/missing.obj").ok());
   CHECK(!read_mesh(out_dir() + "/x.dae").ok());
+}
+
+
+namespace {
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+bool mentions(const Error& e, const std::string& a, const std::string& b = "") {
+  return e.message.find(a) != std::string::npos && e.message.find(b) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("PLY points round trip exactly, empty too, and keep the map.ply bytes", "[hal]") {
+  const std::vector<Eigen::Vector3f> pts = {{1, 2, 3}, {-0.5f, 0.25f, 7}, {1e-7f, -3e5f, 0}};
+  const std::string path = out_dir() + "/points.ply";
+  REQUIRE(write_ply_points(pts, path).ok());
+  CHECK(read_bytes(path).starts_with("ply\nformat binary_little_endian 1.0\ncomment orthosonar map\nelement vertex 3\n"
+                                     "property float x\nproperty float y\nproperty float z\nend_header\n"));
+  auto back = read_ply_points(path);
+  REQUIRE(back.ok());
+  CHECK(*back == pts);
+  // A mesh file read as points: its vertices.
+  const TriangleMesh m = sample();
+  REQUIRE(write_mesh_ply(m, out_dir() + "/mesh_as_points.ply").ok());
+  auto verts = read_ply_points(out_dir() + "/mesh_as_points.ply");
+  REQUIRE(verts.ok());
+  CHECK(*verts == m.vertices);
+  REQUIRE(write_ply_points({}, out_dir() + "/empty.ply").ok());
+  auto empty = read_ply_points(out_dir() + "/empty.ply");
+  REQUIRE(empty.ok());
+  CHECK(empty->empty());
+}
+
+TEST_CASE("PLY bytes in memory are the file's bytes and decode the same way", "[hal]") {
+  const TriangleMesh m = sample();
+  const std::string path = out_dir() + "/memory.ply";
+  REQUIRE(write_mesh_ply(m, path).ok());
+  const std::string bytes = encode_mesh_ply(m);
+  CHECK(bytes == read_bytes(path));
+  auto back = decode_mesh_ply(bytes, "attachment scene.ply");
+  REQUIRE(back.ok());
+  CHECK(back->vertices == m.vertices);
+  CHECK(back->triangles == m.triangles);
+  CHECK(back->object_id == m.object_id);
+  CHECK(back->semantic == m.semantic);
+  auto cut = decode_mesh_ply(std::string_view(bytes).substr(0, bytes.size() - 1), "attachment scene.ply");
+  REQUIRE_FALSE(cut.ok());
+  CHECK(mentions(cut.error(), "attachment scene.ply: element face #", "truncated"));
+}
+
+TEST_CASE("PLY in big-endian binary, with doubles, CRLF and a class property loads", "[hal]") {
+  std::string be = "ply\r\nformat binary_big_endian 1.0\r\ncomment hand made\r\nelement vertex 3\r\nproperty double x\r\n"
+                   "property double y\r\nproperty double z\r\nelement face 1\r\nproperty list uchar uint vertex_indices\r\n"
+                   "property uchar class\r\nend_header\r\n";
+  auto put_be = [&be](const void* p, size_t n) {
+    const char* c = static_cast<const char*>(p);
+    for (size_t i = n; i-- > 0;) be.push_back(c[i]);
+  };
+  for (double v : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.5, 2.0, -1.0}) put_be(&v, 8);
+  be.push_back(3);
+  for (uint32_t i : {0u, 1u, 2u}) put_be(&i, 4);
+  be.push_back(static_cast<char>(SemanticClass::kPiling));
+  write_bytes(out_dir() + "/be.ply", be);
+  auto r = read_mesh(out_dir() + "/be.ply");
+  REQUIRE(r.ok());
+  CHECK(r->vertices[2] == Eigen::Vector3f(0.5f, 2.0f, -1.0f));
+  CHECK(r->triangles.size() == 1u);
+  CHECK(r->semantic[0] == SemanticClass::kPiling);
+}
+
+TEST_CASE("a PLY header claiming 2^64 elements is a clear error, not a hang or an allocation", "[hal]") {
+  const std::string dir = out_dir();
+  for (const char* format : {"binary_little_endian", "binary_big_endian", "ascii"}) {
+    INFO(format);
+    write_bytes(dir + "/huge.ply", std::string("ply\nformat ") + format +
+                                       " 1.0\nelement vertex 18446744073709551615\nproperty float x\nproperty float y\n"
+                                       "property float z\nend_header\n0 0 0 1 1 1 2 2 2\n");
+    auto r = read_mesh(dir + "/huge.ply");
+    REQUIRE_FALSE(r.ok());
+    CHECK(mentions(r.error(), "huge.ply: header: element vertex count 18446744073709551615 exceeds what 18 bytes"));
+    CHECK_FALSE(read_ply_points(dir + "/huge.ply").ok());
+  }
+  // 2^64 itself does not parse; neither does a negative count.
+  for (const char* count : {"18446744073709551616", "-1", "12abc"}) {
+    write_bytes(dir + "/over.ply", std::string("ply\nformat ascii 1.0\nelement vertex ") + count +
+                                       "\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
+    auto r = read_mesh(dir + "/over.ply");
+    REQUIRE_FALSE(r.ok());
+    CHECK(mentions(r.error(), "over.ply: header line 3: element vertex count", "not an unsigned 64-bit integer"));
+  }
+  // A later element whose count overflows what is left after the earlier ones.
+  write_bytes(dir + "/faces.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
+                                  "property float y\nproperty float z\nelement face 4294967296\n"
+                                  "property list uchar int vertex_indices\nend_header\n" + std::string(12 + 64, '\0'));
+  auto f = read_mesh(dir + "/faces.ply");
+  REQUIRE_FALSE(f.ok());
+  CHECK(mentions(f.error(), "element face count 4294967296 exceeds what 76 bytes"));
+  // An element with no properties would take no bytes: its count is not believed.
+  write_bytes(dir + "/empty_element.ply", "ply\nformat ascii 1.0\nelement nothing 18446744073709551615\nend_header\n");
+  auto e = read_mesh(dir + "/empty_element.ply");
+  REQUIRE_FALSE(e.ok());
+  CHECK(mentions(e.error(), "element nothing count 18446744073709551615 has no properties"));
+  // A list length in the body that the rest of the file cannot hold.
+  std::string list = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n";
+  list += std::string(36, '\0') + std::string(4, '\xff') + std::string(12, '\0');
+  write_bytes(dir + "/list.ply", list);
+  auto l = read_mesh(dir + "/list.ply");
+  REQUIRE_FALSE(l.ok());
+  CHECK(mentions(l.error(), "list.ply: element face #0", "list vertex_indices length 4294967295 exceeds what 12 bytes"));
+}
+
+TEST_CASE("PLY headers without end_header, with junk or an unknown format are errors", "[hal]") {
+  const std::string dir = out_dir();
+  write_bytes(dir + "/junk.ply", "ply\n" + std::string(3u << 20, 'a'));  // 3 MiB with no newline
+  auto j = read_mesh(dir + "/junk.ply");
+  REQUIRE_FALSE(j.ok());
+  CHECK(mentions(j.error(), "junk.ply: header: no end_header in the first"));
+  write_bytes(dir + "/noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\n");
+  CHECK(mentions(read_mesh(dir + "/noend.ply").error(), "noend.ply: header: truncated"));
+  write_bytes(dir + "/fmt.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n");
+  CHECK(mentions(read_mesh(dir + "/fmt.ply").error(), "fmt.ply: header line 2: unknown format"));
+  write_bytes(dir + "/magic.ply", "plx\nformat ascii 1.0\nend_header\n");
+  CHECK(mentions(read_mesh(dir + "/magic.ply").error(), "magic.ply: not a PLY file"));
+  write_bytes(dir + "/idx.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                "0 0 0\n3 0 1 2\n");
+  CHECK(mentions(read_mesh(dir + "/idx.ply").error(), "idx.ply: element face #0", "vertex index 1 out of range (1 vertices)"));
+}
+
+TEST_CASE("every truncation of a PLY or STL file is an error naming the file", "[hal]") {
+  TriangleMesh m;
+  MeshBuilder(m).box({0, 0, 0}, {1, 2, 3}, 0, {7, SemanticClass::kDock});  // 12 triangles
+  const std::string dir = out_dir();
+  REQUIRE(write_mesh_ply(m, dir + "/full.ply").ok());
+  REQUIRE(write_mesh_stl(m, dir + "/full.stl", true).ok());
+  REQUIRE(write_mesh_stl(m, dir + "/full_ascii.stl", false).ok());
+  for (const char* name : {"full.ply", "full.stl", "full_ascii.stl"}) {
+    const std::string bytes = read_bytes(dir + "/" + name);
+    const std::string ext = std::string(name).substr(std::string(name).rfind('.'));
+    const std::string cut = dir + "/cut" + ext;
+    size_t failures = 0, cases = 0;
+    // Every prefix for the binary files; ascii STL ends inside a facet or is complete.
+    for (size_t n = 0; n < bytes.size(); n += (ext == ".stl" && bytes[0] == 's') ? 7 : 1) {
+      write_bytes(cut, bytes.substr(0, n));
+      auto r = read_mesh(cut);
+      ++cases;
+      if (!r.ok()) {
+        ++failures;
+        CHECK(r.error().message.find("cut" + ext) != std::string::npos);
+      } else {
+        CHECK(r->valid());  // an ascii prefix that ends between facets is a smaller (or, cut in the trailer, the same) mesh
+        CHECK(r->triangles.size() <= m.triangles.size());
+      }
+    }
+    INFO(name << ": " << failures << " of " << cases << " prefixes rejected");
+    if (bytes[0] != 's') CHECK(failures == cases);
+  }
+}
+
+TEST_CASE("a binary STL claiming more triangles than its bytes is a clear error", "[hal]") {
+  const std::string dir = out_dir();
+  std::string stl(80, ' ');
+  const uint32_t n = 0xffffffffu;
+  stl.append(reinterpret_cast<const char*>(&n), 4);
+  stl.append(100, '\0');
+  write_bytes(dir + "/huge.stl", stl);
+  auto r = read_mesh(dir + "/huge.stl");
+  REQUIRE_FALSE(r.ok());
+  CHECK(mentions(r.error(), "huge.stl: header: triangle count 4294967295 exceeds what 100 bytes of data can hold"));
+  // A binary STL whose 80-byte header starts with "solid" is still binary.
+  TriangleMesh m;
+  MeshBuilder(m).box({0, 0, 0}, {1, 1, 1}, 0, {1, SemanticClass::kOther});
+  REQUIRE(write_mesh_stl(m, dir + "/solid_bin.stl", true).ok());
+  std::string bytes = read_bytes(dir + "/solid_bin.stl");
+  bytes.replace(0, 10, "solid cube");
+  write_bytes(dir + "/solid_bin.stl", bytes);
+  auto b = read_mesh(dir + "/solid_bin.stl");
+  REQUIRE(b.ok());
+  CHECK(corners(*b) == corners(m));
+  write_bytes(dir + "/short.stl", "tiny");
+  CHECK(mentions(read_mesh(dir + "/short.stl").error(), "short.stl: header: 4 bytes"));
+}
+
+TEST_CASE("OBJ face indices out of range, 2^64 or 0 are errors naming the line", "[hal]") {
+  const std::string dir = out_dir();
+  const std::string verts = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  for (const char* face : {"f 1 2 18446744073709551616", "f 1 2 18446744073709551615", "f 1 2 4", "f 0 1 2",
+                           "f 1 2 -4", "f 1 2 x", "f 1 2"}) {
+    INFO(face);
+    write_bytes(dir + "/bad.obj", "# comment\n" + verts + face + "\n");
+    auto r = read_mesh(dir + "/bad.obj");
+    REQUIRE_FALSE(r.ok());
+    CHECK(mentions(r.error(), "bad.obj line 5: "));
+  }
+  write_bytes(dir + "/rel.obj", verts + "f -3/1/1 -2//2 -1\nf 1/1 2/2 3/3\n");
+  auto ok = read_mesh(dir + "/rel.obj");
+  REQUIRE(ok.ok());
+  CHECK(ok->triangles == std::vector<Eigen::Vector3i>{{0, 1, 2}, {0, 1, 2}});
+  write_bytes(dir + "/badv.obj", "v 0 0\n");
+  CHECK(mentions(read_mesh(dir + "/badv.obj").error(), "badv.obj line 1: bad vertex"));
+}
+
+// One reader and one writer per format (STYLE.md): the format's markers appear in code
+// (comments stripped) only in the files that implement it. Tests may write files by hand.
+TEST_CASE("each file format has one implementation in the source tree", "[hal]") {
+  namespace fs = std::filesystem;
+  const char* src = std::getenv("ORTHOSONAR_SOURCE");
+  REQUIRE(src != nullptr);
+  const std::vector<std::pair<std::string, std::vector<std::string>>> markers = {
+      {"end_header", {"hal/sim/ply_header.cpp", "hal/sim/mesh_ply.cpp"}},
+      {"element vertex", {"hal/sim/mesh_ply.cpp"}},
+      {"endsolid", {"hal/sim/mesh_stl.cpp"}},
+      {"facet normal", {"hal/sim/mesh_stl.cpp"}},
+      {"kw == \"v\"", {"hal/sim/mesh_obj.cpp"}},
+      {"DATA binary", {"replay/outputs/pcd_io.cpp"}},
+      {"DATA ascii", {"replay/outputs/pcd_io.cpp"}},
+      {"VIEWPOINT", {"replay/outputs/pcd_header.cpp"}},
+      {"pcl/io/", {"replay/outputs/pcd_io.cpp"}},
+  };
+  std::vector<std::string> offenders;
+  for (const char* top : {"core", "hal", "replay", "reports", "tools", "golden"}) {
+    for (const auto& entry : fs::recursive_directory_iterator(fs::path(src) / top)) {
+      const std::string rel = fs::relative(entry.path(), src).generic_string();
+      const std::string ext = entry.path().extension().string();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp") || rel.ends_with("_test.cpp")) continue;
+      std::ifstream in(entry.path());
+      std::string line, code;
+      while (std::getline(in, line)) code += line.substr(0, line.find("//")) + "\n";
+      for (const auto& [marker, owners] : markers)
+        if (code.find(marker) != std::string::npos && std::find(owners.begin(), owners.end(), rel) == owners.end())
+          offenders.push_back(rel + " contains \"" + marker + "\"");
+    }
+  }
+  INFO([&] {
+    std::string s;
+    for (const auto& o : offenders) s += o + "\n";
+    return s;
+  }());
+  CHECK(offenders.empty());
 }
 
 }  // namespace orthosonar::sim

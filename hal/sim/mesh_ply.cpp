@@ -1,186 +1,247 @@
-// PLY reading (ascii, binary little and big endian) and writing (binary little endian).
+// PLY: the one reader (ascii, binary little and big endian; meshes and point clouds) and
+// the one writer (binary little endian). Headers go through ply::parse_header, which
+// bounds every count by the bytes after end_header; list lengths read from the body are
+// bounded the same way, so reserve() below never sees an unchecked count.
 #include <algorithm>
 #include <bit>
+#include <charconv>
+#include <climits>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "hal/sim/mesh_io.hpp"
+#include "hal/sim/ply_header.hpp"
 
 namespace orthosonar::sim {
 namespace {
 
-enum class Format { kAscii, kBinaryLE, kBinaryBE };
+using ply::Format;
+using ply::Type;
 
-struct Property {
-  std::string name;
-  std::string type;        // scalar type, or the item type of a list
-  std::string count_type;  // non-empty for lists
-};
-struct Element {
-  std::string name;
-  uint64_t count = 0;
-  std::vector<Property> props;
-};
-
-int type_size(const std::string& t) {
-  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
-  if (t == "double" || t == "float64") return 8;
-  return 0;
-}
-
-// Reads values one at a time from the body, whatever the format.
-class BodyReader {
+// Values from the body, one at a time, whatever the format.
+class Body {
  public:
-  BodyReader(std::istream& in, Format f) : in_(in), format_(f) {}
-  bool read(const std::string& type, double& out) {
-    if (format_ == Format::kAscii) return static_cast<bool>(in_ >> out);
-    const int n = type_size(type);
-    unsigned char b[8];
-    if (n == 0 || !in_.read(reinterpret_cast<char*>(b), n)) return false;
-    const bool swap = (format_ == Format::kBinaryBE) == (std::endian::native == std::endian::little);
-    if (swap) std::reverse(b, b + n);
-    if (type == "char" || type == "int8") out = static_cast<int8_t>(b[0]);
-    else if (type == "uchar" || type == "uint8") out = b[0];
-    else if (type == "short" || type == "int16") out = load<int16_t>(b);
-    else if (type == "ushort" || type == "uint16") out = load<uint16_t>(b);
-    else if (type == "int" || type == "int32") out = load<int32_t>(b);
-    else if (type == "uint" || type == "uint32") out = load<uint32_t>(b);
-    else if (type == "float" || type == "float32") out = load<float>(b);
-    else out = load<double>(b);
+  Body(std::string_view bytes, Format f) : b_(bytes), format_(f) {}
+
+  bool read(Type t, double& out) {
+    if (format_ == Format::kAscii) return read_ascii(out);
+    const size_t n = ply::type_size(t);
+    if (b_.size() - pos_ < n) return false;
+    unsigned char v[8];
+    std::memcpy(v, b_.data() + pos_, n);
+    pos_ += n;
+    if ((format_ == Format::kBinaryBigEndian) == (std::endian::native == std::endian::little)) std::reverse(v, v + n);
+    switch (t) {
+      case Type::kI8: out = static_cast<int8_t>(v[0]); break;
+      case Type::kU8: out = v[0]; break;
+      case Type::kI16: out = load<int16_t>(v); break;
+      case Type::kU16: out = load<uint16_t>(v); break;
+      case Type::kI32: out = load<int32_t>(v); break;
+      case Type::kU32: out = load<uint32_t>(v); break;
+      case Type::kF32: out = load<float>(v); break;
+      case Type::kF64: out = load<double>(v); break;
+    }
     return true;
   }
 
+  // Bytes not yet consumed (an upper bound on what is left to read).
+  uint64_t remaining() const { return b_.size() - pos_; }
+  uint64_t offset() const { return pos_; }
+
  private:
   template <class T>
-  static double load(const unsigned char* b) {
-    T v;
-    std::memcpy(&v, b, sizeof v);
-    return static_cast<double>(v);
+  static double load(const unsigned char* v) {
+    T x;
+    std::memcpy(&x, v, sizeof x);
+    return static_cast<double>(x);
   }
-  std::istream& in_;
+  bool read_ascii(double& out) {
+    while (pos_ < b_.size() && (b_[pos_] == ' ' || b_[pos_] == '\t' || b_[pos_] == '\r' || b_[pos_] == '\n')) ++pos_;
+    if (pos_ < b_.size() && b_[pos_] == '+') ++pos_;
+    const char* first = b_.data() + pos_;
+    const char* last = b_.data() + b_.size();
+    auto [p, ec] = std::from_chars(first, last, out);
+    if (ec != std::errc() || p == first) return false;
+    pos_ = static_cast<size_t>(p - b_.data());
+    return true;
+  }
+
+  std::string_view b_;
   Format format_;
+  size_t pos_ = 0;
 };
 
-}  // namespace
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
 
-Result<TriangleMesh> read_mesh_ply(const std::string& path) {
+Result<std::string> slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{"cannot open mesh '" + path + "'"};
-  std::string line;
-  std::getline(in, line);
-  if (line.rfind("ply", 0) != 0) return Error{"'" + path + "': not a PLY file (no 'ply' magic)"};
-  Format format = Format::kAscii;
-  std::vector<Element> elements;
-  int line_no = 1;
-  while (true) {
-    if (!std::getline(in, line)) return Error{"'" + path + "': header has no end_header"};
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream ls(line);
-    std::string kw;
-    ls >> kw;
-    if (kw == "end_header") break;
-    if (kw == "format") {
-      std::string f;
-      ls >> f;
-      if (f == "ascii") format = Format::kAscii;
-      else if (f == "binary_little_endian") format = Format::kBinaryLE;
-      else if (f == "binary_big_endian") format = Format::kBinaryBE;
-      else return Error{"'" + path + "' line " + std::to_string(line_no) + ": unknown format '" + f + "'"};
-    } else if (kw == "element") {
-      Element e;
-      ls >> e.name >> e.count;
-      elements.push_back(e);
-    } else if (kw == "property") {
-      if (elements.empty()) return Error{"'" + path + "': property before element"};
-      Property p;
-      std::string t;
-      ls >> t;
-      if (t == "list") {
-        ls >> p.count_type >> p.type >> p.name;
-      } else {
-        p.type = t;
-        ls >> p.name;
-      }
-      if (type_size(p.type) == 0 || (!p.count_type.empty() && type_size(p.count_type) == 0))
-        return Error{"'" + path + "' line " + std::to_string(line_no) + ": unknown property type"};
-      elements.back().props.push_back(p);
-    }
-  }
+  if (!in) return Error{path + ": cannot open"};
+  std::error_code ec;
+  const uint64_t size = std::filesystem::file_size(path, ec);
+  if (ec) return Error{path + ": cannot stat (" + ec.message() + ")"};
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  bytes.resize(static_cast<size_t>(in.gcount()));
+  return bytes;
+}
+
+// Decodes every element of a PLY file's bytes; keeps vertices, and faces when want_faces.
+// `path` names the bytes in errors.
+Result<TriangleMesh> decode_ply(std::string_view bytes, const std::string& path, bool want_faces) {
+  auto header = ply::parse_header(bytes, bytes.size(), path);
+  if (!header) return header.error();
+  const ply::Header& h = *header;
+  uint64_t vertex_count = 0;
+  for (const auto& e : h.elements)
+    if (e.name == "vertex") vertex_count = e.count;
+  if (vertex_count > static_cast<uint64_t>(INT_MAX))
+    return Error{path + ": header: element vertex count " + std::to_string(vertex_count) + " is more than a mesh can index"};
+
   TriangleMesh mesh;
-  BodyReader body(in, format);
-  for (const auto& e : elements) {
+  Body body(bytes.substr(h.body_offset), h.format);
+  auto at = [&](const ply::Element& e, uint64_t i) {
+    return path + ": element " + e.name + " #" + std::to_string(i) + " (body byte " + std::to_string(body.offset()) + "): ";
+  };
+  const bool ascii = h.format == Format::kAscii;
+  for (const ply::Element& e : h.elements) {
+    const bool is_vertex = e.name == "vertex";
+    const bool is_face = e.name == "face" && want_faces;
+    const int ix = e.scalar_index("x"), iy = e.scalar_index("y"), iz = e.scalar_index("z");
+    if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) return Error{path + ": element vertex lacks x, y or z"};
+    if (is_vertex) mesh.vertices.reserve(static_cast<size_t>(e.count));  // bounded by the header check
+    std::vector<int> poly;
     for (uint64_t i = 0; i < e.count; ++i) {
       double xyz[3] = {0, 0, 0};
-      std::vector<int> poly;
       double object_id = 1, semantic = static_cast<double>(SemanticClass::kOther);
-      for (const auto& p : e.props) {
+      poly.clear();
+      for (size_t k = 0; k < e.properties.size(); ++k) {
+        const ply::Property& p = e.properties[k];
         double v = 0;
-        if (!p.count_type.empty()) {
+        if (p.is_list) {
           double n = 0;
-          if (!body.read(p.count_type, n)) return Error{"'" + path + "': truncated in element '" + e.name + "' #" + std::to_string(i)};
-          for (int k = 0; k < static_cast<int>(n); ++k) {
-            if (!body.read(p.type, v)) return Error{"'" + path + "': truncated list in '" + e.name + "' #" + std::to_string(i)};
-            if (p.name == "vertex_indices" || p.name == "vertex_index") poly.push_back(static_cast<int>(v));
+          if (!body.read(p.count_type, n)) return Error{at(e, i) + "truncated or malformed list count of " + p.name};
+          // Each list item takes at least its binary size, or a digit and a separator.
+          const uint64_t item = ascii ? 2 : ply::type_size(p.type);
+          const uint64_t room = (body.remaining() + (ascii ? 1 : 0)) / item;
+          if (!(n >= 0 && n <= static_cast<double>(room)) || n != static_cast<double>(static_cast<uint64_t>(n)))
+            return Error{at(e, i) + "list " + p.name + " length " + number(n) + " exceeds what " +
+                         std::to_string(body.remaining()) + " bytes of data can hold"};
+          const bool corners = is_face && (p.name == "vertex_indices" || p.name == "vertex_index");
+          for (uint64_t c = 0; c < static_cast<uint64_t>(n); ++c) {
+            if (!body.read(p.type, v)) return Error{at(e, i) + "truncated or malformed list " + p.name};
+            if (!corners) continue;
+            if (!(v >= 0 && v < static_cast<double>(vertex_count)) || v != static_cast<double>(static_cast<int64_t>(v)))
+              return Error{at(e, i) + "vertex index " + number(v) + " out of range (" +
+                           std::to_string(vertex_count) + " vertices)"};
+            poly.push_back(static_cast<int>(v));  // 0 <= v < vertex_count <= INT_MAX
           }
           continue;
         }
-        if (!body.read(p.type, v)) return Error{"'" + path + "': truncated in element '" + e.name + "' #" + std::to_string(i)};
-        if (e.name == "vertex") {
-          if (p.name == "x") xyz[0] = v;
-          if (p.name == "y") xyz[1] = v;
-          if (p.name == "z") xyz[2] = v;
-        } else if (e.name == "face") {
+        if (!body.read(p.type, v)) return Error{at(e, i) + "truncated or malformed property " + p.name};
+        const int ki = static_cast<int>(k);
+        if (is_vertex) {
+          if (ki == ix) xyz[0] = v;
+          if (ki == iy) xyz[1] = v;
+          if (ki == iz) xyz[2] = v;
+        } else if (is_face) {
           if (p.name == "object_id") object_id = v;
-          if (p.name == "semantic") semantic = v;
+          if (p.name == "semantic" || p.name == "class") semantic = v;
         }
       }
-      if (e.name == "vertex") {
+      if (is_vertex) {
         mesh.vertices.emplace_back(static_cast<float>(xyz[0]), static_cast<float>(xyz[1]), static_cast<float>(xyz[2]));
-      } else if (e.name == "face") {
-        if (semantic < 0 || semantic >= kSemanticClassCount) semantic = static_cast<double>(SemanticClass::kOther);
-        for (size_t k = 2; k < poly.size(); ++k) {
-          mesh.triangles.emplace_back(poly[0], poly[k - 1], poly[k]);
+      } else if (is_face) {
+        if (!(semantic >= 0 && semantic < kSemanticClassCount)) semantic = static_cast<double>(SemanticClass::kOther);
+        if (!(object_id >= 0 && object_id <= static_cast<double>(UINT32_MAX))) object_id = 0;
+        for (size_t c = 2; c < poly.size(); ++c) {
+          mesh.triangles.emplace_back(poly[0], poly[c - 1], poly[c]);
           mesh.object_id.push_back(static_cast<uint32_t>(object_id));
           mesh.semantic.push_back(static_cast<SemanticClass>(static_cast<int>(semantic)));
         }
       }
     }
   }
-  if (!mesh.valid()) return Error{"'" + path + "': face index out of range"};
+  if (!mesh.valid()) return Error{path + ": face index out of range"};
   return mesh;
 }
 
-Status write_mesh_ply(const TriangleMesh& mesh, const std::string& path) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) return Error{"cannot write mesh '" + path + "'"};
-  out << "ply\nformat binary_little_endian 1.0\ncomment orthosonar scene mesh\n"
-      << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
-      << "element face " << mesh.triangles.size()
-      << "\nproperty list uchar int vertex_indices\nproperty uint object_id\nproperty uchar semantic\nend_header\n";
-  static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
+Status write_file(const std::string& path, const std::string& header, const std::vector<char>& body) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return Error{path + ": cannot open for writing"};
+  out << header;
+  out.write(body.data(), static_cast<std::streamsize>(body.size()));
+  out.flush();
+  if (!out) return Error{path + ": write failed"};
+  return Status::Ok();
+}
+
+static_assert(std::endian::native == std::endian::little, "the PLY writer assumes a little-endian host");
+
+void put(std::vector<char>& buf, const void* p, size_t n) {
+  const char* c = static_cast<const char*>(p);
+  buf.insert(buf.end(), c, c + n);
+}
+
+}  // namespace
+
+Result<TriangleMesh> read_mesh_ply(const std::string& path) {
+  auto bytes = slurp(path);
+  if (!bytes) return bytes.error();
+  return decode_ply(*bytes, path, true);
+}
+
+Result<TriangleMesh> decode_mesh_ply(std::string_view bytes, const std::string& name) {
+  return decode_ply(bytes, name, true);
+}
+
+Result<std::vector<Eigen::Vector3f>> read_ply_points(const std::string& path) {
+  auto bytes = slurp(path);
+  if (!bytes) return bytes.error();
+  auto mesh = decode_ply(*bytes, path, false);
+  if (!mesh) return mesh.error();
+  return std::move(mesh->vertices);
+}
+
+std::string encode_mesh_ply(const TriangleMesh& mesh) {
+  std::string header = "ply\nformat binary_little_endian 1.0\ncomment orthosonar scene mesh\nelement vertex " +
+                             std::to_string(mesh.vertices.size()) +
+                             "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                             std::to_string(mesh.triangles.size()) +
+                             "\nproperty list uchar int vertex_indices\nproperty uint object_id\n"
+                             "property uchar semantic\nend_header\n";
   std::vector<char> buf;
   buf.reserve(mesh.vertices.size() * 12 + mesh.triangles.size() * 18);
-  auto put = [&buf](const void* p, size_t n) {
-    const char* c = static_cast<const char*>(p);
-    buf.insert(buf.end(), c, c + n);
-  };
-  for (const auto& v : mesh.vertices) put(v.data(), 12);
+  for (const auto& v : mesh.vertices) put(buf, v.data(), 12);
   for (size_t i = 0; i < mesh.triangles.size(); ++i) {
     const uint8_t three = 3;
-    put(&three, 1);
-    put(mesh.triangles[i].data(), 12);
+    put(buf, &three, 1);
+    put(buf, mesh.triangles[i].data(), 12);
     const uint32_t id = i < mesh.object_id.size() ? mesh.object_id[i] : 0;
     const uint8_t sem = i < mesh.semantic.size() ? static_cast<uint8_t>(mesh.semantic[i]) : 0;
-    put(&id, 4);
-    put(&sem, 1);
+    put(buf, &id, 4);
+    put(buf, &sem, 1);
   }
-  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-  if (!out) return Error{"write failed for mesh '" + path + "'"};
-  return Status::Ok();
+  header.append(buf.data(), buf.size());
+  return header;
+}
+
+Status write_mesh_ply(const TriangleMesh& mesh, const std::string& path) {
+  return write_file(path, encode_mesh_ply(mesh), {});
+}
+
+Status write_ply_points(const std::vector<Eigen::Vector3f>& points, const std::string& path) {
+  const std::string header = "ply\nformat binary_little_endian 1.0\ncomment orthosonar map\nelement vertex " +
+                             std::to_string(points.size()) + "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  std::vector<char> buf;
+  buf.reserve(points.size() * 12);
+  for (const auto& p : points) put(buf, p.data(), 12);
+  return write_file(path, header, buf);
 }
 
 }  // namespace orthosonar::sim

@@ -30,10 +30,19 @@ void PingPrefetch::work() {
       if (stop_) return;
       job = next_job_++;
     }
-    SonarRender r = render_(jobs_[job].first, jobs_[job].second);
+    // A render that throws (e.g. out of memory) must not end the process from a worker
+    // thread: the exception is handed to the consumer, which rethrows it from take().
+    std::optional<SonarRender> r;
+    std::exception_ptr fault;
+    try {
+      r = render_(jobs_[job].first, jobs_[job].second);
+    } catch (...) {
+      fault = std::current_exception();
+    }
     {
       std::lock_guard lock(mu_);
-      done_.emplace(job, std::move(r));
+      if (fault) failed_.emplace(job, fault);
+      else done_.emplace(job, std::move(*r));
     }
     cv_.notify_all();
   }
@@ -44,7 +53,15 @@ SonarRender PingPrefetch::take(SonarMount mount, uint64_t index) {
   if (it == job_of_.end()) return render_(mount, index);
   const uint64_t job = it->second;
   std::unique_lock lock(mu_);
-  cv_.wait(lock, [&] { return done_.count(job) > 0; });
+  cv_.wait(lock, [&] { return done_.count(job) > 0 || failed_.count(job) > 0; });
+  if (const auto f = failed_.find(job); f != failed_.end()) {
+    const std::exception_ptr fault = f->second;
+    failed_.erase(f);
+    taken_ = std::max(taken_, job + 1);
+    lock.unlock();
+    cv_.notify_all();
+    std::rethrow_exception(fault);
+  }
   SonarRender r = std::move(done_.at(job));
   done_.erase(job);
   taken_ = std::max(taken_, job + 1);

@@ -4,9 +4,11 @@
 // changes. Jobs run in consumption order (h0, v0, h1, v1, ...) within a bounded window.
 #include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -21,7 +23,8 @@ class PingPrefetch {
   ~PingPrefetch();
   PingPrefetch(const PingPrefetch&) = delete;
   PingPrefetch& operator=(const PingPrefetch&) = delete;
-  // Blocks until the ping is rendered. Pings must be taken in job order.
+  // Blocks until the ping is rendered. Pings must be taken in job order. An exception
+  // thrown by the render function on a worker thread is rethrown here.
   SonarRender take(SonarMount mount, uint64_t index);
 
  private:
@@ -36,6 +39,7 @@ class PingPrefetch {
   uint64_t window_ = 4;
   bool stop_ = false;
   std::map<uint64_t, SonarRender> done_;
+  std::map<uint64_t, std::exception_ptr> failed_;
   std::vector<std::thread> workers_;
 };
 

@@ -1,6 +1,7 @@
 #include "hal/sim/scene.hpp"
 
 #include <cmath>
+#include <filesystem>
 
 #include "hal/sim/scenes_builtin.hpp"
 
@@ -65,7 +66,14 @@ Result<Scene> builtin_scene(const std::string& name, uint64_t seed) {
 Result<Scene> scene_from_metadata(const std::map<std::string, std::string>& md) {
   const auto it = md.find("scene");
   if (it == md.end()) return Error{"fixture metadata has no 'scene' key"};
-  if (it->second.rfind("file:", 0) == 0) return load_scene_file(it->second.substr(5));
+  if (it->second.rfind("file:", 0) == 0) {
+    const std::string path = it->second.substr(5);
+    if (!std::filesystem::path(path).is_absolute())
+      return Error{"fixture metadata names scene file '" + path +
+                   "' without its folder and the fixture has no embedded scene (attachment " +
+                   kEmbeddedSceneYaml + ")"};
+    return load_scene_file(path);
+  }
   auto seed_it = md.find("scene_seed");
   if (seed_it == md.end()) seed_it = md.find("seed");
   uint64_t seed = 0;
@@ -77,6 +85,20 @@ Result<Scene> scene_from_metadata(const std::map<std::string, std::string>& md) 
     }
   }
   return builtin_scene(it->second, seed);
+}
+
+std::string portable_origin(const Scene& scene) {
+  if (scene.origin.rfind("file:", 0) == 0)
+    return "file:" + std::filesystem::path(scene.origin.substr(5)).filename().string();
+  return scene.origin.empty() ? scene.name : scene.origin;
+}
+
+Result<Scene> scene_from_fixture(const std::map<std::string, std::string>& md, const EmbeddedFiles& files,
+                                 bool* embedded) {
+  const bool has = has_embedded_scene(files);
+  if (embedded != nullptr) *embedded = has;
+  if (has) return scene_from_embedded(files);
+  return scene_from_metadata(md);
 }
 
 }  // namespace orthosonar::sim

@@ -2,7 +2,8 @@
 // Scenes for the simulator (SPEC §10): a labelled triangle mesh (object id and semantic
 // class per triangle, world frame W, metres, z up, z = 0 at the water surface), a default
 // waypoint route and the working depths. Built-in scenes are pure functions of
-// (name, seed); user scenes come from a YAML file that places mesh files.
+// (name, seed); user scenes come from a YAML file that places mesh files. Fixtures embed
+// their scene (embed_scene / scene_from_fixture), so replay never needs the YAML's path.
 #include <cstdint>
 #include <map>
 #include <string>
@@ -26,7 +27,9 @@ struct Scene {
   std::vector<Waypoint> route;      // default route at vehicle depth; followed cyclically
   double vehicle_depth_m = 3.0;     // positive down
   double seafloor_depth_m = 9.0;    // nominal, positive down
-  // What fixture metadata calls the scene: the built-in name or "file:<yaml path>".
+  // Where the scene came from: the built-in name or "file:<absolute yaml path>" (fixture
+  // metadata records portable_origin(), without the folder); for a scene rebuilt from a
+  // fixture's embedded files, the origin recorded there.
   std::string origin;
 };
 
@@ -42,6 +45,40 @@ Result<Scene> load_scene_file(const std::string& yaml_path);
 
 // Rebuilds the exact scene a fixture was simulated with, from its metadata
 // ("scene" = built-in name or "file:<path>", "scene_seed" or else "seed").
+// A "file:" entry without a folder (fixtures since scenes are embedded) is an error here:
+// such fixtures carry their scene, see scene_from_fixture.
 Result<Scene> scene_from_metadata(const std::map<std::string, std::string>& fixture_metadata);
+
+// What fixture metadata calls `scene` without depending on where its files live: the
+// built-in name, or "file:<yaml file name>" for a user scene.
+std::string portable_origin(const Scene& scene);
+
+// ---- Scenes embedded in fixtures (MCAP attachments; docs/SCENES.md)
+// The mesh as binary PLY (write_mesh_ply: float vertices, per-face object_id and semantic)
+// and a scene YAML in the user-scene format that places that mesh with `class: from_file`
+// and lists name, seed, depths, route and the class table. Together they are a scene file.
+inline constexpr const char* kEmbeddedSceneYaml = "orthosonar_scene.yaml";
+inline constexpr const char* kEmbeddedSceneYamlType = "application/yaml";
+inline constexpr const char* kEmbeddedSceneMesh = "orthosonar_scene.ply";
+inline constexpr const char* kEmbeddedSceneMeshType = "application/x-ply";
+
+struct EmbeddedFile {
+  std::string name;
+  std::string media_type;
+  std::vector<uint8_t> data;
+};
+// Name -> bytes of the files embedded in a fixture (replay::attachment_files).
+using EmbeddedFiles = std::map<std::string, std::vector<uint8_t>>;
+
+// The files that describe `scene` (deterministic bytes, no paths): YAML first, then mesh.
+Result<std::vector<EmbeddedFile>> embed_scene(const Scene& scene);
+bool has_embedded_scene(const EmbeddedFiles& files);
+// The scene embed_scene wrote: bit-identical mesh, route and depths; origin as recorded.
+// Errors name the attachment at fault.
+Result<Scene> scene_from_embedded(const EmbeddedFiles& files);
+// A fixture's scene: the embedded one when the fixture has it, else (fixtures written
+// before scenes were embedded) scene_from_metadata. `embedded` (optional) says which.
+Result<Scene> scene_from_fixture(const std::map<std::string, std::string>& fixture_metadata,
+                                 const EmbeddedFiles& files, bool* embedded = nullptr);
 
 }  // namespace orthosonar::sim

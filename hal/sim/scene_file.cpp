@@ -2,8 +2,15 @@
 // generated seafloor, and a route inline or in a CSV file.
 #include <yaml-cpp/yaml.h>
 
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <numbers>
 #include <sstream>
 
@@ -42,12 +49,17 @@ Result<std::vector<Waypoint>> read_route_csv(const std::string& path) {
   return route;
 }
 
-Result<Scene> load(const fs::path& yaml_path) {
-  const YAML::Node root = YAML::LoadFile(yaml_path.string());
-  const fs::path dir = yaml_path.parent_path();
-  auto resolve = [&dir](const std::string& p) { return fs::path(p).is_absolute() ? fs::path(p) : dir / p; };
+// Where a scene YAML's mesh and route files come from: files beside the YAML, or the
+// files embedded in a fixture.
+struct SceneInputs {
+  std::string default_name;
+  std::function<Result<TriangleMesh>(const std::string&)> mesh;
+  std::function<Result<std::vector<Waypoint>>(const std::string&)> route_file;
+};
+
+Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
   Scene s;
-  s.name = root["name"] ? root["name"].as<std::string>() : yaml_path.stem().string();
+  s.name = root["name"] ? root["name"].as<std::string>() : in.default_name;
   s.seed = root["seed"] ? root["seed"].as<uint64_t>() : 0;
   if (root["vehicle_depth_m"]) s.vehicle_depth_m = root["vehicle_depth_m"].as<double>();
   if (root["seafloor_depth_m"]) s.seafloor_depth_m = root["seafloor_depth_m"].as<double>();
@@ -66,7 +78,7 @@ Result<Scene> load(const fs::path& yaml_path) {
   for (const auto& o : root["objects"]) {
     const std::string where = "objects[" + std::to_string(index++) + "]";
     if (!o["mesh"]) return Error{where + ": no 'mesh'"};
-    auto mesh = read_mesh(resolve(o["mesh"].as<std::string>()).string());
+    auto mesh = in.mesh(o["mesh"].as<std::string>());
     if (!mesh) return Error{where + ": " + mesh.error().message};
     const std::string cls = o["class"] ? o["class"].as<std::string>() : "other";
     if (cls != "from_file") {
@@ -97,7 +109,7 @@ Result<Scene> load(const fs::path& yaml_path) {
       s.route.push_back({w[0].as<double>(), w[1].as<double>()});
     }
   } else if (root["route_file"]) {
-    auto route = read_route_csv(resolve(root["route_file"].as<std::string>()).string());
+    auto route = in.route_file(root["route_file"].as<std::string>());
     if (!route) return route.error();
     s.route = std::move(*route);
   }
@@ -107,12 +119,156 @@ Result<Scene> load(const fs::path& yaml_path) {
   return s;
 }
 
+// ---- embedded scenes: mesh_io reads and writes PLY by path, so the embedded mesh passes
+// through a private temporary file.
+class TempFile {
+ public:
+  TempFile() {
+    std::error_code ec;
+    const fs::path dir = fs::temp_directory_path(ec);
+    std::string t = ((ec ? fs::path("/tmp") : dir) / "orthosonar-scene-XXXXXX.ply").string();
+    const int fd = ::mkstemps(t.data(), 4);
+    if (fd >= 0) {
+      ::close(fd);
+      path_ = t;
+    }
+  }
+  ~TempFile() {
+    if (!path_.empty()) std::remove(path_.c_str());
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+Result<std::vector<uint8_t>> ply_bytes(const TriangleMesh& mesh) {
+  TempFile tmp;
+  if (tmp.path().empty()) return Error{"cannot create a temporary file for the scene mesh"};
+  if (Status s = write_mesh_ply(mesh, tmp.path()); !s) return s.error();
+  std::ifstream f(tmp.path(), std::ios::binary);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (f.bad()) return Error{"cannot read back the scene mesh from '" + tmp.path() + "'"};
+  return bytes;
+}
+
+Result<TriangleMesh> mesh_from_ply_bytes(const std::vector<uint8_t>& bytes, const std::string& name) {
+  TempFile tmp;
+  if (tmp.path().empty()) return Error{"cannot create a temporary file for '" + name + "'"};
+  {
+    std::ofstream f(tmp.path(), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!f) return Error{"cannot write '" + name + "' to '" + tmp.path() + "'"};
+  }
+  auto mesh = read_mesh_ply(tmp.path());
+  if (!mesh) {
+    std::string msg = mesh.error().message;  // name the attachment, not the temporary file
+    for (size_t at = msg.find(tmp.path()); at != std::string::npos; at = msg.find(tmp.path(), at + name.size()))
+      msg.replace(at, tmp.path().size(), name);
+    return Error{msg};
+  }
+  return mesh;
+}
+
+// Shortest text that reads back as the same double.
+std::string exact(double v) {
+  char b[40];
+  for (int p = 15; p <= 17; ++p) {
+    std::snprintf(b, sizeof b, "%.*g", p, v);
+    if (std::strtod(b, nullptr) == v) break;
+  }
+  return b;
+}
+
+std::string quoted(const std::string& s) {
+  std::string q = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      q += '\\';
+      q += static_cast<char>(c);
+    } else if (c < 0x20 || c == 0x7f) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\x%02x", c);
+      q += b;
+    } else {
+      q += static_cast<char>(c);
+    }
+  }
+  return q + "\"";
+}
+
 }  // namespace
+
+Result<std::vector<EmbeddedFile>> embed_scene(const Scene& scene) {
+  if (!scene.mesh.valid() || scene.mesh.triangles.empty()) return Error{"embed scene '" + scene.name + "': invalid mesh"};
+  auto finite = [](double v) { return std::isfinite(v); };
+  if (!finite(scene.vehicle_depth_m) || !finite(scene.seafloor_depth_m))
+    return Error{"embed scene '" + scene.name + "': non-finite depth"};
+  std::string y;
+  y += "# The scene this fixture was simulated in, embedded by orthosonar (docs/SCENES.md).\n";
+  y += "# Saved beside " + std::string(kEmbeddedSceneMesh) + " it is a scene file (--scene-file).\n";
+  y += "name: " + quoted(scene.name) + "\n";
+  y += "origin: " + quoted(portable_origin(scene)) + "\n";
+  y += "seed: " + std::to_string(scene.seed) + "\n";
+  y += "vehicle_depth_m: " + exact(scene.vehicle_depth_m) + "\n";
+  y += "seafloor_depth_m: " + exact(scene.seafloor_depth_m) + "\n";
+  y += "classes: [";  // the mesh's per-face 'semantic' codes
+  for (int c = 0; c < kSemanticClassCount; ++c)
+    y += std::string(c == 0 ? "" : ", ") + semantic_class_name(static_cast<SemanticClass>(c));
+  y += "]\n";
+  y += "objects:\n  - mesh: " + std::string(kEmbeddedSceneMesh) + "\n    class: from_file\n";
+  y += "route:\n";
+  for (const auto& w : scene.route) {
+    if (!finite(w.x_m) || !finite(w.y_m)) return Error{"embed scene '" + scene.name + "': non-finite waypoint"};
+    y += "  - [" + exact(w.x_m) + ", " + exact(w.y_m) + "]\n";
+  }
+  auto ply = ply_bytes(scene.mesh);
+  if (!ply) return Error{"embed scene '" + scene.name + "': " + ply.error().message};
+  std::vector<EmbeddedFile> files;
+  files.push_back({kEmbeddedSceneYaml, kEmbeddedSceneYamlType, std::vector<uint8_t>(y.begin(), y.end())});
+  files.push_back({kEmbeddedSceneMesh, kEmbeddedSceneMeshType, std::move(*ply)});
+  return files;
+}
+
+bool has_embedded_scene(const EmbeddedFiles& files) { return files.count(kEmbeddedSceneYaml) > 0; }
+
+Result<Scene> scene_from_embedded(const EmbeddedFiles& files) {
+  const std::string where = std::string("embedded scene (attachment ") + kEmbeddedSceneYaml + ")";
+  const auto yaml = files.find(kEmbeddedSceneYaml);
+  if (yaml == files.end()) return Error{where + ": missing"};
+  SceneInputs in;
+  in.default_name = "embedded";
+  in.mesh = [&files](const std::string& name) -> Result<TriangleMesh> {
+    const auto it = files.find(name);
+    if (it == files.end()) return Error{"mesh '" + name + "' is not embedded in the fixture"};
+    return mesh_from_ply_bytes(it->second, "attachment '" + name + "'");
+  };
+  in.route_file = [](const std::string& name) -> Result<std::vector<Waypoint>> {
+    return Error{"route file '" + name + "' is not embedded in the fixture"};
+  };
+  try {
+    const YAML::Node root = YAML::Load(std::string(yaml->second.begin(), yaml->second.end()));
+    auto s = load(root, in);
+    if (!s) return Error{where + ": " + s.error().message};
+    s->origin = root["origin"] ? root["origin"].as<std::string>() : s->name;
+    return s;
+  } catch (const YAML::Exception& e) {
+    return Error{where + ": " + e.what()};
+  }
+}
 
 Result<Scene> load_scene_file(const std::string& yaml_path) {
   const fs::path path = fs::absolute(yaml_path).lexically_normal();
+  const fs::path dir = path.parent_path();
+  auto resolve = [dir](const std::string& p) { return (fs::path(p).is_absolute() ? fs::path(p) : dir / p).string(); };
+  SceneInputs in;
+  in.default_name = path.stem().string();
+  in.mesh = [resolve](const std::string& p) { return read_mesh(resolve(p)); };
+  in.route_file = [resolve](const std::string& p) { return read_route_csv(resolve(p)); };
   try {
-    auto s = load(path);
+    auto s = load(YAML::LoadFile(path.string()), in);
     if (!s) return Error{"scene file '" + yaml_path + "': " + s.error().message};
     s->origin = "file:" + path.string();
     return s;

@@ -218,7 +218,7 @@ std::map<std::string, std::string> Simulator::metadata() const {
   const Impl& m = *impl_;
   char buf[64];
   std::map<std::string, std::string> md;
-  md["scene"] = m.scene.origin.empty() ? m.scene.name : m.scene.origin;
+  md["scene"] = portable_origin(m.scene);  // no folder: the fixture embeds the scene (embed_scene)
   md["seed"] = std::to_string(m.cfg.seed);
   md["scene_seed"] = std::to_string(m.scene.seed);
   md["resolution"] = resolution_name(m.cfg.resolution);

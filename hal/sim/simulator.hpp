@@ -25,8 +25,10 @@ class Simulator final : public hal::EventSource {
   ~Simulator() override;
   Pulled next() override;
   std::string describe() const override;  // "sim:harbor"
-  // Fixture metadata (docs/outputs contract): scene, seed, scene_seed, resolution,
-  // duration_s, T_V_h, T_V_v, vehicle_depth_m, software_version.
+  // Fixture metadata (docs/outputs contract): scene (portable_origin: the built-in name
+  // or "file:<yaml file name>"), seed, scene_seed, resolution, duration_s, T_V_h, T_V_v,
+  // vehicle_depth_m, software_version. The scene itself goes into the fixture as
+  // attachments (embed_scene(scene())).
   std::map<std::string, std::string> metadata() const;
   const Scene& scene() const;
   const SimConfig& config() const;

@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "core/random.hpp"
+#include "hal/sim/embree_device.hpp"
 
 namespace orthosonar::sim {
 namespace {
@@ -74,9 +77,13 @@ SonarRenderer::SonarRenderer(const TriangleMesh& mesh, const SonarModelConfig& c
   m.cfg = cfg;
   m.geo = sonar_geometry(cfg, resolution);
   m.seed = seed;
-  // Embree with one thread: the BVH build is deterministic. The scene is static and robust
-  // against rays grazing shared edges.
-  m.device = rtcNewDevice("threads=1,set_affinity=0");
+  // Embree with one build thread (the BVH build is deterministic) and its ISA pinned to
+  // SSE2 (embree_device.hpp): the same kernels, hence the same hits, on every x86-64 CPU.
+  // The scene is static and robust against rays grazing shared edges.
+  m.device = rtcNewDevice(kEmbreeDeviceConfig);
+  if (m.device == nullptr || rtcGetDeviceError(m.device) != RTC_ERROR_NONE) {
+    throw std::runtime_error(std::string("Embree: cannot create a device with \"") + kEmbreeDeviceConfig + "\"");
+  }
   m.scene = rtcNewScene(m.device);
   rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
@@ -220,8 +227,12 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  RTCRayHit16 rh;
-  int valid[16];
+  // Embree's 16-wide packet queries load the valid mask and the SoA ray/hit packet with
+  // aligned 512-bit accesses: both must be 64-byte aligned (RTCRayHit16 is declared
+  // RTC_ALIGN(64), a plain int[16] on the stack is not; ASan caught the misaligned load).
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  static_assert(alignof(RTCRayHit16) >= 64, "RTCRayHit16 must be 64-byte aligned");
   for (int j = 0; j < cols; ++j) {
     for (int base = 0; base < m.rays_per_beam; base += 16) {
       const size_t r0 = static_cast<size_t>(j) * static_cast<size_t>(m.rays_per_beam) + static_cast<size_t>(base);

@@ -25,10 +25,12 @@ stream.append(bytes);
 const topics = new Map();
 const streamCounts = {};
 let dataEnd;
+const streamAttachments = [];
 for (let r; (r = stream.nextRecord()); ) {
   if (r.type === "Channel") topics.set(r.id, r.topic);
   else if (r.type === "Message") bump(streamCounts, topics.get(r.channelId));
   else if (r.type === "DataEnd") dataEnd = r;
+  else if (r.type === "Attachment") streamAttachments.push(r.name);
 }
 if (!stream.done()) fail("stream reader did not reach the footer");
 if (!dataEnd) fail("no Data End record");
@@ -91,6 +93,20 @@ const meta = [];
 for await (const m of reader.readMetadata({ name: "orthosonar" })) meta.push(m);
 if (meta.length !== 1 || meta[0].metadata.get("scene") !== expected.scene) fail("metadata record 'orthosonar'");
 
+// 3. Attachments: found through the Attachment Index, CRCs checked, bytes as written.
+const wantAtt = expected.attachments ?? [];
+const atts = [];
+for await (const a of reader.readAttachments({ validateCrcs: true })) atts.push(a);
+if (atts.length !== wantAtt.length) fail(`${atts.length} attachments, expected ${wantAtt.length}`);
+if (streamAttachments.length !== wantAtt.length) fail(`stream reader saw ${streamAttachments.length} attachments`);
+if (reader.statistics.attachmentCount !== wantAtt.length) fail(`statistics attachment count ${reader.statistics.attachmentCount}`);
+wantAtt.forEach((w, i) => {
+  const a = atts[i];
+  if (a.name !== w.name || a.mediaType !== w.media_type || a.logTime !== BigInt(w.log_time) || a.createTime !== 0n)
+    fail(`attachment ${i}: ${a.name} ${a.mediaType} ${a.logTime}`);
+  if (new TextDecoder().decode(a.data) !== w.text) fail(`attachment ${a.name}: data differs`);
+});
+
 const total = Object.values(counts).reduce((a, b) => a + b, 0);
 console.log(`interop ok: ${total} messages on ${Object.keys(counts).length} topics, ` +
-  `${reader.chunkIndexes.length} zstd chunks, CRCs (chunks, data section, summary) valid`);
+  `${reader.chunkIndexes.length} zstd chunks, ${atts.length} attachment(s), CRCs (chunks, attachments, data section, summary) valid`);

@@ -1,5 +1,5 @@
 // Writes the interop fixture (every channel, zstd chunks) and prints what a reader must
-// find in it as JSON: {"counts": {topic: n}, "chunks": n, "scene": s}.
+// find in it as JSON: {"counts": {topic: n}, "chunks": n, "scene": s, "attachments": [...]}.
 //   orthosonar_interop_fixture out.mcap > expected.json
 #include <iostream>
 #include <map>
@@ -24,6 +24,14 @@ int main(int argc, char** argv) {
     std::cerr << w.error().message << "\n";
     return 2;
   }
+  // One attachment (as the simulator embeds its scene): found through the summary's
+  // Attachment Index, CRC checked.
+  const std::string text = "orthosonar interop attachment\n";
+  const replay::Attachment att{"interop.txt", "text/plain", std::vector<uint8_t>(text.begin(), text.end()), 7, 0};
+  if (auto s = (*w)->attach(att); !s) {
+    std::cerr << s.error().message << "\n";
+    return 2;
+  }
   std::map<std::string, int> counts;
   Time first = events.front().stamp;
   int chunks = 1;
@@ -46,6 +54,8 @@ int main(int argc, char** argv) {
   j["counts"] = counts;
   j["chunks"] = chunks;
   j["scene"] = "interop";
+  j["attachments"] = nlohmann::json::array(
+      {{{"name", att.name}, {"media_type", att.media_type}, {"text", text}, {"log_time", att.log_time_ns}}});
   std::cout << j.dump() << "\n";
   return 0;
 }

@@ -1,6 +1,6 @@
 #!/bin/sh
 # The sweep computes inference_submap's per-pair clouds once and replays them in every cell
-# (tools/support_sweep.cpp). The reference cell (3 m / 30 deg) must equal a plain replay with
+# (replay/run/sweep.cpp). The reference cell (3 m / 30 deg) must equal a plain replay with
 # the same model: same coverage, MAE and RMSE to the printed precision.
 # Usage: sweep_inference_cache_test.sh ORTHOSONAR OUT_DIR
 set -e

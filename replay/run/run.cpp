@@ -1,4 +1,4 @@
-#include "tools/support_pipeline.hpp"
+#include "replay/run/run.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -10,9 +10,15 @@
 #include <limits>
 #include <sstream>
 
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 
 #include "core/canonical.hpp"
 #include "core/inference/inference_mapping.hpp"
+#include "core/inference/numeric_pins.hpp"
 #include "core/mapping/systems.hpp"
 #include "hal/sim/mesh_io.hpp"
 #include "hal/sim/scene.hpp"
@@ -20,67 +26,41 @@
 #include "replay/digest.hpp"
 #include "replay/fixture.hpp"
 #include "replay/outputs/map_writers.hpp"
-#include "tools/support_trajectory.hpp"
+#include "replay/run/trajectory.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 
-// ---------------------------------------------------------------- thread pool, clock
+// ---------------------------------------------------------------- executor, clock
 
-ThreadPool::ThreadPool(int threads) {
-  for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { work(); });
+struct TbbExecutor::Arena {
+  // TBB caps its workers at the machine's cores unless told otherwise; a run asked for
+  // more threads gets them (outputs do not depend on the count either way).
+  explicit Arena(int threads)
+      : limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads)), arena(threads) {}
+  tbb::global_control limit;
+  tbb::task_arena arena;
+};
+
+TbbExecutor::TbbExecutor(int threads) : threads_(std::max(1, threads)) {
+  if (threads_ > 1) arena_ = std::make_unique<Arena>(threads_);
 }
 
-ThreadPool::~ThreadPool() {
-  {
-    std::lock_guard lock(mu_);
-    stop_ = true;
-  }
-  cv_.notify_all();
-  for (auto& w : workers_) w.join();
-}
+TbbExecutor::~TbbExecutor() = default;
 
-void ThreadPool::drain() {
-  size_t done = 0;
-  for (size_t i = next_.fetch_add(1); i < n_; i = next_.fetch_add(1)) {
-    (*task_)(i);
-    ++done;
-  }
-  std::lock_guard lock(mu_);
-  finished_ += done;
-  if (finished_ == n_) done_cv_.notify_all();
-}
-
-void ThreadPool::work() {
-  uint64_t seen = 0;
-  for (;;) {
-    {
-      std::unique_lock lock(mu_);
-      cv_.wait(lock, [&] { return stop_ || generation_ != seen; });
-      if (stop_) return;
-      seen = generation_;
-    }
-    drain();
-  }
-}
-
-void ThreadPool::run(size_t n, const std::function<void(size_t)>& task) {
+void TbbExecutor::run(size_t n, const std::function<void(size_t)>& task) {
   if (n == 0) return;
-  if (workers_.empty() || n == 1) {
+  if (!arena_ || n == 1) {
     for (size_t i = 0; i < n; ++i) task(i);
     return;
   }
-  {
-    std::lock_guard lock(mu_);
-    task_ = &task;
-    n_ = n;
-    next_ = 0;
-    finished_ = 0;
-    ++generation_;
-  }
-  cv_.notify_all();
-  drain();
-  std::unique_lock lock(mu_);
-  done_cv_.wait(lock, [&] { return finished_ == n_; });
+  // Each index is a pure function of its input (fusion of one pair): which thread runs it
+  // cannot change a result, so any partitioner gives identical outputs. TBB cancels the
+  // remaining work and rethrows a task's exception here, in the caller's thread.
+  arena_->arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) task(i);
+    });
+  });
 }
 
 double SteadyClock::now_ms() const {
@@ -89,14 +69,16 @@ double SteadyClock::now_ms() const {
 
 // ---------------------------------------------------------------- setup
 
-void apply_mission_start(const std::map<std::string, std::string>& metadata, RunConfig& config) {
-  const auto scene = sim::scene_from_metadata(metadata);
+void apply_mission_start(const std::map<std::string, std::string>& metadata, RunConfig& config,
+                         const std::vector<replay::Attachment>& attachments) {
+  const auto scene = sim::scene_from_fixture(metadata, replay::attachment_files(attachments));
   if (scene.ok() && !scene->route.empty())
     config.pipeline.dr.initial_xy_m = Vec2(scene->route.front().x_m, scene->route.front().y_m);
 }
 
 std::optional<TriangleMesh> load_truth_mesh(const std::map<std::string, std::string>& metadata,
-                                            const std::string& mesh_path, std::string& note) {
+                                            const std::string& mesh_path, std::string& note,
+                                            const std::vector<replay::Attachment>& attachments) {
   if (!mesh_path.empty()) {
     auto m = sim::read_mesh(mesh_path);
     if (!m.ok()) {
@@ -106,12 +88,13 @@ std::optional<TriangleMesh> load_truth_mesh(const std::map<std::string, std::str
     note = "file:" + mesh_path;
     return std::move(*m);
   }
-  auto scene = sim::scene_from_metadata(metadata);
+  bool embedded = false;
+  auto scene = sim::scene_from_fixture(metadata, replay::attachment_files(attachments), &embedded);
   if (!scene.ok()) {
     note = "no ground-truth mesh: " + scene.error().message;
     return std::nullopt;
   }
-  note = "scene:" + scene->origin;
+  note = (embedded ? "embedded:" : "scene:") + scene->origin;
   return std::move(scene->mesh);
 }
 
@@ -174,8 +157,6 @@ std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::Pipelin
           {"dvl_dropouts", static_cast<int64_t>(dr.dropouts)}};
 }
 
-namespace {
-
 std::map<std::string, std::vector<uint8_t>> canonical_outputs(const RunOutput& r) {
   std::map<std::string, std::vector<uint8_t>> out;
   const auto& slam = r.pipeline->slam();
@@ -222,17 +203,19 @@ std::map<std::string, std::vector<uint8_t>> canonical_outputs(const RunOutput& r
   return out;
 }
 
-}  // namespace
+namespace {
 
-Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::string, std::string>& metadata,
-                               const RunOptions& options, const std::optional<TriangleMesh>& mesh,
-                               const mapping::FuseFn& fuse, const std::function<void(Time)>& progress) {
+Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<std::string, std::string>& metadata,
+                                       const RunOptions& options, const std::optional<TriangleMesh>& mesh,
+                                       const RunControl& control, const mapping::FuseFn& fuse) {
+  inference::apply_numeric_pins();  // cross-machine determinism (docs/ARCHITECTURE.md); idempotent
   auto systems = make_systems(options);
   if (!systems.ok()) return systems.error();
   RunOutput r;
   r.metadata = metadata;
+  r.config = options.config;
   r.pipeline = std::make_unique<mapping::Pipeline>(options.config.pipeline);
-  ThreadPool pool(std::max(1, options.config.threads));
+  TbbExecutor pool(std::max(1, options.config.threads));
   SteadyClock clock;
   r.pipeline->set_executor(&pool);
   r.pipeline->set_clock(&clock);
@@ -245,14 +228,31 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
   }
 
   const auto wall0 = std::chrono::steady_clock::now();
+  Time first_stamp;
+  double duration_s = 0.0;
+  if (const auto it = metadata.find("duration_s"); it != metadata.end()) duration_s = std::atof(it->second.c_str());
+  auto report = [&](Time t, int64_t events) {
+    Progress pr;
+    pr.stamp = t;
+    pr.events = events;
+    pr.fraction = duration_s > 0.0 ? std::clamp((t - first_stamp).seconds() / duration_s, 0.0, 1.0)
+                                   : std::numeric_limits<double>::quiet_NaN();
+    control.progress(pr);
+  };
   std::optional<Time> first, last;
   int64_t n = 0;
   for (;;) {
+    if (control.cancel && control.cancel->load(std::memory_order_relaxed))
+      return Error{std::string(kCancelledPrefix) + ": " + source.describe() + " stopped after " + std::to_string(n) +
+                   " events" + (last ? " (stamp " + std::to_string(last->ns()) + " ns)" : std::string())};
     hal::Pulled p = source.next();
     if (p.error) return Error{source.describe() + ": " + p.error->message};
     if (p.end_of_stream || !p.event) break;
     const Time t = p.event->stamp;
-    if (!first) first = t;
+    if (!first) {
+      first = t;
+      first_stamp = t;
+    }
     last = t;
     if (options.rate > 0.0) {
       const auto due = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -260,9 +260,11 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
       std::this_thread::sleep_until(due);
     }
     r.pipeline->consume(*p.event);
-    if (progress && (++n % 2048) == 0) progress(t);
+    ++n;
+    if (control.progress && control.progress_every > 0 && n % control.progress_every == 0) report(t, n);
   }
   r.pipeline->finish();
+  if (control.progress && last) report(*last, n);
   r.stream_span = first ? (*last - *first) : Time();
   for (const auto* im : cached)
     if (im->cache_misses() > 0)
@@ -301,69 +303,123 @@ Result<RunOutput> run_pipeline(hal::EventSource& source, const std::map<std::str
   return r;
 }
 
-Result<RunOutput> replay_file(const std::string& fixture_path, RunOptions options, bool progress) {
+}  // namespace
+
+Result<RunOutput> run_source(hal::EventSource& source, const std::map<std::string, std::string>& metadata,
+                             const RunOptions& options, const std::optional<TriangleMesh>& mesh,
+                             const RunControl& control, const mapping::FuseFn& fuse) {
+  // Anything thrown on the way (a fusion task on a worker thread included: TBB rethrows it
+  // here) becomes an Error naming the source, never std::terminate.
+  try {
+    return run_source_unguarded(source, metadata, options, mesh, control, fuse);
+  } catch (const std::exception& e) {
+    return Error{source.describe() + ": " + e.what()};
+  } catch (...) {
+    return Error{source.describe() + ": unknown exception"};
+  }
+}
+
+bool is_cancelled(const Error& e) { return e.message.rfind(kCancelledPrefix, 0) == 0; }
+
+namespace {
+
+// "x y z roll pitch yaw" (metres, radians) as fixture metadata stores extrinsics.
+bool parse_pose6(const std::string& text, SE3& T) {
+  std::istringstream in(text);
+  double v[6];
+  for (double& x : v)
+    if (!(in >> x) || !std::isfinite(x)) return false;
+  std::string rest;
+  if (in >> rest) return false;
+  T = se3_from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5]);
+  return true;
+}
+
+// Flattens a config JSON into "a.b.c" -> value text.
+void flatten(const nlohmann::json& j, const std::string& prefix, std::map<std::string, std::string>& out) {
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) flatten(v, prefix.empty() ? k : prefix + "." + k, out);
+    return;
+  }
+  out[prefix] = j.dump();
+}
+
+void note_changes(const RunConfig& before, const RunConfig& after, const std::string& origin, ConfigSources& sources) {
+  std::map<std::string, std::string> a, b;
+  flatten(config_to_json(before), "", a);
+  flatten(config_to_json(after), "", b);
+  for (const auto& [k, v] : b)
+    if (a[k] != v) sources[k] = origin;
+}
+
+}  // namespace
+
+Result<RunConfig> effective_config(const std::map<std::string, std::string>& metadata, const RunOptions& options,
+                                   ConfigSources* sources, const std::vector<replay::Attachment>& attachments) {
+  ConfigSources local;
+  ConfigSources& src = sources ? *sources : local;
+  src.clear();
+  RunConfig c;  // 1. defaults
+  // 2. the fixture's recorded values
+  RunConfig from_fixture = c;
+  for (const auto& [key, target] : {std::pair<const char*, SE3*>{"T_V_h", &from_fixture.pipeline.fusion.T_V_h},
+                                    std::pair<const char*, SE3*>{"T_V_v", &from_fixture.pipeline.fusion.T_V_v}}) {
+    const auto it = metadata.find(key);
+    if (it == metadata.end()) continue;
+    if (!parse_pose6(it->second, *target))
+      return Error{std::string("fixture metadata '") + key + "' = '" + it->second +
+                   "' is not six finite numbers 'x y z roll pitch yaw' (m, rad)"};
+  }
+  apply_mission_start(metadata, from_fixture, attachments);
+  note_changes(c, from_fixture, "fixture", src);
+  c = from_fixture;
+  // 3. the run YAML
+  if (!options.config_yaml.empty()) {
+    RunConfig from_yaml = c;
+    if (Status s = apply_config_yaml(options.config_yaml, from_yaml); !s.ok())
+      return Error{(options.config_origin.empty() ? std::string() : options.config_origin + ": ") + s.error().message};
+    note_changes(c, from_yaml, "config" + (options.config_origin.empty() ? std::string() : ":" + options.config_origin),
+                 src);
+    c = from_yaml;
+  }
+  // 4. the command line
+  if (options.threads_override) {
+    if (*options.threads_override < 1 || *options.threads_override > kMaxThreads)
+      return Error{"--threads must be in [1, " + std::to_string(kMaxThreads) + "]"};
+    RunConfig from_flags = c;
+    from_flags.threads = *options.threads_override;
+    note_changes(c, from_flags, "command line", src);
+    c = from_flags;
+  }
+  if (options.adjust) {
+    RunConfig adjusted = c;
+    options.adjust(adjusted);
+    note_changes(c, adjusted, "program", src);
+    c = adjusted;
+  }
+  return c;
+}
+
+Result<RunOutput> run_fixture(const std::string& fixture_path, const RunOptions& options, const RunControl& control,
+                              std::string* warning) {
   auto src = replay::FixtureSource::open(fixture_path);
   if (!src.ok()) return src.error();
   auto& source = **src;
-  if (!source.recovery().complete)
-    std::cerr << "warning: " << fixture_path << " is incomplete: " << source.recovery().detail << "\n";
+  if (!source.recovery().complete && warning)
+    *warning = fixture_path + " is incomplete: " + source.recovery().detail;
   const auto& meta = source.metadata();
-  apply_mission_start(meta, options.config);
+  RunOptions resolved = options;
+  ConfigSources sources;
+  auto config = effective_config(meta, options, &sources, source.attachments());
+  if (!config.ok()) return Error{fixture_path + ": " + config.error().message};
+  resolved.config = *config;
   std::string note;
-  const auto mesh = load_truth_mesh(meta, options.mesh_path, note);
-  double duration_s = 0.0;
-  if (const auto it = meta.find("duration_s"); it != meta.end()) duration_s = std::atof(it->second.c_str());
-  std::optional<Time> t0;
-  auto on_progress = [&](Time t) {
-    if (!t0) t0 = t;
-    if (progress && duration_s > 0.0)
-      print_progress("replay", (t - *t0).seconds() / duration_s, std::to_string(static_cast<int>((t - *t0).seconds())) + " s");
-  };
-  auto r = run_pipeline(source, meta, options, mesh, {}, on_progress);
+  const auto mesh = load_truth_mesh(meta, options.mesh_path, note, source.attachments());
+  auto r = run_source(source, meta, resolved, mesh, control);
   if (!r.ok()) return r.error();
-  if (progress && duration_s > 0.0) print_progress("replay", 1.0, "done");
   r->mesh_note = note;
+  r->config_sources = std::move(sources);
   return r;
 }
 
-void add_run_options(CLI::App& sub, CommonRunArgs& a) {
-  sub.add_option("--systems", a.systems, "Mapping systems, comma separated (fusion, submap, inference, inference_submap)")
-      ->capture_default_str();
-  sub.add_option("--threads", a.threads, "Fusion threads (outputs identical for any count; default from config, 1)");
-  sub.add_option("--config", a.config_path, "YAML configuration of every stage");
-  sub.add_option("--rate", a.rate, "Pace the replay at R x sensor time (0: as fast as possible; changes no output)");
-  sub.add_option("--mesh", a.mesh_path, "Ground-truth mesh (PLY/OBJ/STL); default: the fixture's scene");
-  sub.add_option("--model", a.model_path, "Classifier model for the inference systems");
-}
-
-Result<RunOptions> run_options_from(const CommonRunArgs& a) {
-  RunOptions o;
-  if (!a.config_path.empty())
-    if (Status s = load_config_file(a.config_path, o.config); !s.ok()) return s.error();
-  if (a.threads > 0) o.config.threads = a.threads;
-  if (a.rate < 0.0) return Error{"--rate must be >= 0"};
-  o.rate = a.rate;
-  o.mesh_path = a.mesh_path;
-  o.model_path = a.model_path;
-  o.systems.clear();
-  std::stringstream ss(a.systems);
-  std::string name;
-  while (std::getline(ss, name, ','))
-    if (!name.empty()) o.systems.push_back(name);
-  if (o.systems.empty()) return Error{"--systems is empty"};
-  return o;
-}
-
-void print_progress(const std::string& label, double fraction, const std::string& detail) {
-  const double f = std::clamp(fraction, 0.0, 1.0);
-  constexpr int kWidth = 30;
-  const int filled = static_cast<int>(f * kWidth);
-  std::string bar(static_cast<size_t>(filled), '#');
-  bar.resize(kWidth, '.');
-  std::fprintf(stderr, "\r%s [%s] %3d%%  %s   ", label.c_str(), bar.c_str(), static_cast<int>(f * 100.0),
-               detail.c_str());
-  if (f >= 1.0) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
-}
-
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -6,10 +6,10 @@
 #include "hal/sim/mesh_io.hpp"
 #include "orthosonar/version.hpp"
 #include "replay/outputs/map_writers.hpp"
-#include "tools/support_pipeline.hpp"
-#include "tools/support_trajectory.hpp"
+#include "replay/run/run.hpp"
+#include "replay/run/trajectory.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 
 // ---------------------------------------------------------------- outputs
 
@@ -65,7 +65,7 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
     if (ec) return Error{"cannot create '" + d.string() + "': " + ec.message()};
     if (Status st = outputs::write_pcd((d / "map.pcd").string(), s.map_W); !st.ok()) return st;
     if (Status st = outputs::write_ply((d / "map.ply").string(), s.map_W); !st.ok()) return st;
-    if (Status st = outputs::write_octomap((d / "map.bt").string(), s.map_W, options.config.octomap_resolution_m);
+    if (Status st = outputs::write_octomap((d / "map.bt").string(), s.map_W, run.config.octomap_resolution_m);
         !st.ok())
       return st;
     if (Status st = write_json(d / "metrics.json", system_metrics_json(run, s)); !st.ok()) return st;
@@ -93,7 +93,10 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   for (const auto& [k, v] : run.metadata) fixture[k] = v;
   summary["fixture"] = fixture;
   summary["software_version"] = kVersion;
-  summary["config"] = config_to_json(options.config);
+  summary["config"] = config_to_json(run.config);
+  nlohmann::json sources = nlohmann::json::object();
+  for (const auto& [k, v] : run.config_sources) sources[k] = v;
+  summary["config_sources"] = sources;
   summary["systems"] = options.systems;
   summary["ground_truth_mesh"] = run.mesh_note;
   nlohmann::json counts = nlohmann::json::object();
@@ -108,4 +111,4 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   return replay::write_digest_json((out / "digest.json").string(), run.digest);
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -7,7 +7,7 @@
 #include "core/result.hpp"
 #include "hal/sim/sim_config.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 
 struct MissionSpec {
   std::string scene = "harbor";
@@ -24,4 +24,4 @@ struct MissionSpec {
 Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& path,
                                     const std::function<void(double)>& progress = {});
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -10,7 +10,7 @@
 #include "core/slam/keyframe_slam.hpp"
 #include "core/time.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 
 struct StampedPose {
   Time stamp;
@@ -33,4 +33,4 @@ std::vector<StampedPose> keyframe_poses_slam(const slam::KeyframeSlam& slam);
 std::string keyframe_table_csv(const slam::KeyframeSlam& slam);
 Status write_keyframe_table(const std::string& path, const slam::KeyframeSlam& slam);
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -1,4 +1,4 @@
-#include "tools/support_mission.hpp"
+#include "replay/run/mission.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -7,7 +7,7 @@
 #include "hal/sim/simulator.hpp"
 #include "replay/fixture.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 namespace {
 
 bool same_mission(const replay::FixtureMetadata& m, const MissionSpec& s) {
@@ -47,6 +47,11 @@ Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& 
   const std::string tmp = path + ".partial";
   auto writer = replay::FixtureWriter::open(tmp, simulator.metadata());
   if (!writer.ok()) return writer.error();
+  // The fixture carries its scene (docs/SCENES.md): replay needs nothing else.
+  auto scene_files = sim::embed_scene(simulator.scene());
+  if (!scene_files.ok()) return scene_files.error();
+  for (auto& f : *scene_files)
+    if (Status s = (*writer)->attach({f.name, f.media_type, std::move(f.data)}); !s.ok()) return s.error();
   const Time duration = Time::from_seconds(spec.duration_s);
   uint64_t n = 0;
   for (;;) {
@@ -63,4 +68,4 @@ Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& 
   return true;
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -1,10 +1,10 @@
-#include "tools/support_trajectory.hpp"
+#include "replay/run/trajectory.hpp"
 
 #include <cinttypes>
 #include <cstdio>
 #include <fstream>
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 namespace {
 
 std::string stamp_seconds(Time t) {
@@ -95,4 +95,4 @@ Status write_keyframe_table(const std::string& path, const slam::KeyframeSlam& s
   return write_text(path, keyframe_table_csv(slam));
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -1,24 +1,28 @@
-#include "tools/support_sweep.hpp"
+#include "replay/run/sweep.hpp"
 
 #include "core/inference/inference_mapping.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "core/perception/fusion.hpp"
 #include "hal/fake_source.hpp"
 #include "replay/fixture.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 
 std::vector<GridCell> paper_grid() {
   std::vector<GridCell> g;
@@ -46,16 +50,19 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
   PreparedSweep p;
   p.metadata = (*src)->metadata();
   RunOptions options = options_in;
-  apply_mission_start(p.metadata, options.config);
+  auto config = effective_config(p.metadata, options_in, nullptr, (*src)->attachments());
+  if (!config.ok()) return Error{fixture + ": " + config.error().message};
+  options.config = *config;
+  p.config = *config;
   std::string note;
-  p.mesh = load_truth_mesh(p.metadata, options.mesh_path, note);
+  p.mesh = load_truth_mesh(p.metadata, options.mesh_path, note, (*src)->attachments());
   double duration_s = 0.0;
   if (const auto it = p.metadata.find("duration_s"); it != p.metadata.end()) duration_s = std::atof(it->second.c_str());
 
   // A pipeline without mapping systems pairs and fuses every pair exactly as a cell would;
   // its fusion hook records each result.
   mapping::Pipeline pipeline(options.config.pipeline);
-  ThreadPool pool(threads);
+  TbbExecutor pool(threads);
   SteadyClock clock;
   pipeline.set_executor(&pool);
   pipeline.set_clock(&clock);
@@ -104,7 +111,7 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
     p.inference_cache = std::make_shared<inference::InferenceFrameCache>();
     once.inference_record = p.inference_cache.get();
     hal::FakeSource source(p.events);
-    auto r = run_pipeline(source, p.metadata, once, p.mesh, cached_fusion(p));
+    auto r = run_source(source, p.metadata, once, p.mesh, {}, cached_fusion(p));
     if (!r.ok()) return Error{"inference pass: " + r.error().message};
     for (const auto& s : r->systems)
       for (const auto& [name, st] : s.runtime)
@@ -116,13 +123,13 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
 
 Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& options_in, const GridCell& cell) {
   RunOptions options = options_in;
-  apply_mission_start(prepared.metadata, options.config);
+  options.config = prepared.config;  // defaults < fixture < --config (effective_config)
   options.config.threads = 1;  // fusion is cached; cells run in parallel instead
   options.config.pipeline.slam.kf_distance_m = cell.distance_m;
   options.config.pipeline.slam.kf_rotation_deg = cell.rotation_deg;
   hal::FakeSource source(prepared.events);
   options.inference_replay = prepared.inference_cache.get();
-  auto r = run_pipeline(source, prepared.metadata, options, prepared.mesh, cached_fusion(prepared));
+  auto r = run_source(source, prepared.metadata, options, prepared.mesh, {}, cached_fusion(prepared));
   if (!r.ok()) return r.error();
   CellResult c;
   c.cell = cell;
@@ -146,6 +153,43 @@ Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& opt
   c.digest = r->digest.overall_hex;
   c.wall_s = r->wall_s;
   return c;
+}
+
+Result<std::vector<CellResult>> run_cells(const PreparedSweep& prepared, const RunOptions& options,
+                                          const std::vector<GridCell>& cells, int threads,
+                                          const std::function<void(size_t, size_t)>& progress) {
+  std::vector<std::optional<Result<CellResult>>> results(cells.size());
+  std::atomic<size_t> done{0};
+  std::mutex progress_mu;
+  auto one = [&](size_t i) {
+    try {
+      results[i] = run_cell(prepared, options, cells[i]);
+    } catch (const std::exception& e) {
+      results[i] = Result<CellResult>(Error{e.what()});
+    }
+    const size_t d = ++done;
+    if (progress) {
+      std::lock_guard lock(progress_mu);
+      progress(d, cells.size());
+    }
+  };
+  if (threads <= 1) {
+    for (size_t i = 0; i < cells.size(); ++i) one(i);
+  } else {
+    tbb::task_arena arena(threads);
+    arena.execute([&] { tbb::parallel_for(size_t{0}, cells.size(), one); });
+  }
+  std::vector<CellResult> out;
+  out.reserve(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!results[i]->ok()) {
+      char name[64];
+      std::snprintf(name, sizeof name, "cell %.1f m / %.0f deg: ", cells[i].distance_m, cells[i].rotation_deg);
+      return Error{name + results[i]->error().message};
+    }
+    out.push_back(std::move(results[i]->value()));
+  }
+  return out;
 }
 
 SweepReport make_sweep_report(const PreparedSweep& prepared, std::vector<CellResult> cells) {
@@ -282,4 +326,4 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
   return write(out / "tables.md", sweep_tables_markdown(r));
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -13,9 +13,9 @@
 
 #include "core/mapping/pipeline.hpp"
 #include "core/mesh.hpp"
-#include "tools/support_pipeline.hpp"
+#include "replay/run/run.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::run {
 
 struct GridCell {
   double distance_m = 1.0;
@@ -26,6 +26,7 @@ std::vector<GridCell> paper_grid();
 
 struct PreparedSweep {
   std::map<std::string, std::string> metadata;
+  RunConfig config;           // the effective configuration (every cell starts from it)
   std::vector<Event> events;  // every event, sonar images removed
   std::map<std::pair<int64_t, int64_t>, std::shared_ptr<const perception::FusionResult>> fused;
   std::optional<TriangleMesh> mesh;
@@ -58,6 +59,13 @@ struct CellResult {
   double wall_s = 0.0;
 };
 Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& options, const GridCell& cell);
+// Every cell on `threads` threads (oneTBB task arena); results in the order of `cells`,
+// whatever order they finish in. `progress(done, total)` is called after each cell (from
+// the thread that ran it, one call at a time). The first failing cell's error is returned,
+// naming the cell; an exception in any cell becomes an Error too.
+Result<std::vector<CellResult>> run_cells(const PreparedSweep& prepared, const RunOptions& options,
+                                          const std::vector<GridCell>& cells, int threads,
+                                          const std::function<void(size_t, size_t)>& progress = {});
 
 struct SweepReport {
   std::string scene;
@@ -72,4 +80,4 @@ SweepReport make_sweep_report(const PreparedSweep& prepared, std::vector<CellRes
 std::string sweep_tables_markdown(const SweepReport& report);
 Status write_sweep_outputs(const SweepReport& report, const std::string& out_dir);
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::run

@@ -1,0 +1,185 @@
+#pragma once
+// The run API (library orthosonar_run): open a source, configure, run the pipeline with
+// progress and cancellation, and get the outputs and their digest (SPEC §9). The CLI's
+// replay, verify, run, sweep, demo and golden commands and the golden tests all call it
+// in-process; so can any other program (find_package(orthosonar), target orthosonar::run).
+//
+//   orthosonar::run::RunOptions options;                 // defaults: fusion + submap
+//   options.config_yaml = "slam: {kf_distance_m: 2}";    // optional, over the fixture's values
+//   std::atomic<bool> cancel{false};
+//   orthosonar::run::RunControl control;
+//   control.cancel = &cancel;
+//   control.progress = [](const orthosonar::run::Progress& p) { /* p.fraction */ };
+//   auto out = orthosonar::run::run_fixture("mission.mcap", options, control);
+//   if (!out) { std::cerr << out.error().message; return 2; }
+//   std::cout << out->digest.overall_hex;                // same bytes on every machine
+//   orthosonar::run::write_run_outputs(*out, options, "out/");
+//
+// Fusion runs on oneTBB inside a task arena of `config.threads` threads; outputs are
+// identical for any thread count. An exception thrown anywhere in the run (a worker thread
+// included) comes back as an Error, never std::terminate. The library reads the steady
+// clock for stage timings only (summary.json), never for anything that reaches an output.
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/mapping/metrics.hpp"
+#include "core/mapping/pipeline.hpp"
+#include "core/mesh.hpp"
+#include "hal/event_source.hpp"
+#include "replay/digest.hpp"
+#include "replay/fixture.hpp"
+#include "replay/run/run_config.hpp"
+
+namespace orthosonar::inference {
+struct InferenceFrameCache;
+}  // namespace orthosonar::inference
+
+namespace orthosonar::run {
+
+// Runs each batch with tbb::parallel_for inside its own task arena of N threads (the
+// caller's thread is one of them); N = 1 runs inline. An exception from a task is rethrown
+// in the caller's thread once the batch has stopped.
+class TbbExecutor final : public mapping::Executor {
+ public:
+  explicit TbbExecutor(int threads);
+  ~TbbExecutor() override;
+  void run(size_t n, const std::function<void(size_t)>& task) override;
+  int threads() const { return threads_; }
+
+ private:
+  struct Arena;  // a tbb::task_arena (TBB headers stay out of this header)
+  int threads_;
+  std::unique_ptr<Arena> arena_;
+};
+
+class SteadyClock final : public mapping::StageClock {
+ public:
+  double now_ms() const override;
+};
+
+struct RunOptions {
+  // The configuration a run uses. run_fixture() recomputes it with effective_config():
+  // defaults < the fixture's recorded values < config_yaml < threads_override.
+  RunConfig config;
+  std::string config_yaml;              // the user's run YAML (docs/CONFIG.md), may be empty
+  std::string config_origin;            // where config_yaml came from, for messages ("c.yaml")
+  std::optional<int> threads_override;  // --threads
+  // A program's own settings, applied last (e.g. a sweep cell's keyframe distance).
+  std::function<void(RunConfig&)> adjust;
+  std::vector<std::string> systems = {"fusion", "submap"};
+  double rate = 0.0;        // > 0: pace the replay at R x sensor time (changes no output)
+  std::string mesh_path;    // ground-truth mesh file; empty: the fixture's embedded scene
+  std::string model_path;   // classifier model for the inference systems
+  // Sweeps: fill / reuse the per-pair clouds of inference_submap (core/inference
+  // InferenceFrameCache). Not owned; must outlive the run.
+  inference::InferenceFrameCache* inference_record = nullptr;
+  const inference::InferenceFrameCache* inference_replay = nullptr;
+};
+
+// Where each configuration value came from: flattened key ("fusion.T_V_h") -> "fixture",
+// "config:<origin>" or "command line". Keys left at their defaults are not listed.
+using ConfigSources = std::map<std::string, std::string>;
+
+// The configuration for a fixture with these metadata. Precedence, lowest first:
+//   1. built-in defaults (docs/CONFIG.md);
+//   2. the fixture's recorded values: sonar extrinsics (metadata T_V_h, T_V_v) and the DR
+//      start from its mission plan (the scene's first waypoint; the scene embedded in
+//      `attachments` when the fixture has one, else the one its metadata names);
+//   3. options.config_yaml (--config);
+//   4. options.threads_override (--threads), then options.adjust.
+// Errors name the metadata key or the config key at fault.
+Result<RunConfig> effective_config(const std::map<std::string, std::string>& metadata, const RunOptions& options,
+                                   ConfigSources* sources = nullptr,
+                                   const std::vector<replay::Attachment>& attachments = {});
+
+// What run progress reports: the stamp reached, the fraction of the recording when its
+// duration is known (else NaN), and the events consumed so far.
+struct Progress {
+  Time stamp;
+  double fraction = 0.0;
+  int64_t events = 0;
+};
+
+struct RunControl {
+  std::function<void(const Progress&)> progress;  // called every `progress_every` events
+  int64_t progress_every = 2048;
+  // Set to true from any thread to stop the run; it then returns an Error whose message
+  // starts with kCancelledPrefix. Checked before every event.
+  const std::atomic<bool>* cancel = nullptr;
+};
+inline constexpr const char* kCancelledPrefix = "cancelled";
+bool is_cancelled(const Error& e);
+
+struct SystemOutput {
+  std::string name;
+  std::vector<Eigen::Vector3f> map_W;
+  int64_t coverage_voxels = 0;
+  std::optional<mapping::AccuracyStats> accuracy;  // when a mesh is known
+  std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime;
+  std::vector<std::pair<std::string, int64_t>> system_counts;  // MappingSystem::system_counts
+};
+
+struct RunOutput {
+  std::map<std::string, std::string> metadata;
+  RunConfig config;                   // the configuration the run used
+  ConfigSources config_sources;       // where its non-default values came from
+  mapping::PipelineCounts counts;
+  std::unique_ptr<mapping::Pipeline> pipeline;  // keyframes, factors, DR counts
+  std::vector<TruthPose> truth;
+  std::optional<double> ate_dr_m, ate_slam_m;
+  std::vector<SystemOutput> systems;
+  std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime;
+  std::optional<TriangleMesh> mesh;
+  std::string mesh_note;    // where the mesh came from, or why there is none
+  Time stream_span;         // last - first event stamp
+  double wall_s = 0.0;
+  replay::DigestResult digest;  // replay/digest.hpp: SHA-256 per output and overall
+};
+
+// The dead-reckoning start from the mission plan (the scene's first waypoint): fixtures
+// record the launch point, not a truth stream. The scene is the one embedded in the
+// fixture's `attachments` (sim::scene_from_fixture; fixtures written before scenes were
+// embedded: the one the metadata names). Leaves the config alone when unknown.
+void apply_mission_start(const std::map<std::string, std::string>& metadata, RunConfig& config,
+                         const std::vector<replay::Attachment>& attachments = {});
+
+// The ground-truth mesh: `mesh_path` when given, else the fixture's scene (embedded in
+// `attachments`, else named by the metadata). `note` says which ("embedded:<origin>",
+// "scene:<origin>", "file:<path>") or why there is none.
+std::optional<TriangleMesh> load_truth_mesh(const std::map<std::string, std::string>& metadata,
+                                            const std::string& mesh_path, std::string& note,
+                                            const std::vector<replay::Attachment>& attachments = {});
+
+// Builds the systems by name. Errors name an unknown system.
+Result<std::vector<std::unique_ptr<mapping::MappingSystem>>> make_systems(const RunOptions& o);
+
+// Feeds every event of `source` through a pipeline configured with `options.config` as it
+// is (call effective_config() first for a fixture), then computes metrics and the digest.
+// `fuse` (optional) replaces fusion (a cache).
+Result<RunOutput> run_source(hal::EventSource& source, const std::map<std::string, std::string>& metadata,
+                             const RunOptions& options, const std::optional<TriangleMesh>& mesh,
+                             const RunControl& control = {}, const mapping::FuseFn& fuse = {});
+
+// Opens a fixture, resolves the configuration (effective_config), finds the truth mesh
+// and runs the pipeline over it. A truncated fixture runs on what was recovered and
+// `warning` (when given) says so.
+Result<RunOutput> run_fixture(const std::string& fixture_path, const RunOptions& options,
+                              const RunControl& control = {}, std::string* warning = nullptr);
+
+// Named deterministic counts (pipeline and DR), in a fixed order.
+std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::PipelineCounts& c, const slam::DrCounts& dr);
+// The canonical bytes of every output (SPEC §9): the digest is SHA-256 over these.
+std::map<std::string, std::vector<uint8_t>> canonical_outputs(const RunOutput& run);
+// metrics.json of one system (the outputs contract).
+nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s);
+// Writes the whole output directory (maps, metrics, trajectories, summary, digest).
+Status write_run_outputs(const RunOutput& run, const RunOptions& options, const std::string& out_dir);
+
+}  // namespace orthosonar::run
