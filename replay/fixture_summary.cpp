@@ -37,6 +37,7 @@ Result<FixtureSummary> summarize_fixture(const std::string& path) {
   if (!src) return src.error();
   s.metadata = (*src)->metadata();
   s.recovery = (*src)->recovery();
+  for (const auto& a : (*src)->attachments()) s.attachments.push_back({a.name, a.media_type, a.data.size()});
   std::array<std::vector<Time>, kChannelCount> stamps;
   for (;;) {
     auto p = (*src)->next();

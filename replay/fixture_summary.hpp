@@ -35,6 +35,11 @@ struct FixtureSummary {
   FixtureMetadata metadata;
   RecoveryReport recovery;
   std::vector<ChannelSummary> channels;   // channels present, in Channel order
+  struct AttachmentSummary {
+    std::string name, media_type;
+    uint64_t bytes = 0;
+  };
+  std::vector<AttachmentSummary> attachments;  // embedded files (the scene), in file order
 };
 
 // Reads every message (CRC-checked, decoded). Errors name the file and byte offset.

@@ -5,9 +5,12 @@ namespace orthosonar::replay {
 Result<std::unique_ptr<RecordingSource>> RecordingSource::open(std::unique_ptr<hal::EventSource> inner,
                                                                const std::string& path,
                                                                const FixtureMetadata& metadata,
-                                                               const WriterOptions& options) {
+                                                               const WriterOptions& options,
+                                                               const std::vector<Attachment>& attachments) {
   auto w = FixtureWriter::open(path, metadata, options);
   if (!w) return w.error();
+  for (const auto& a : attachments)
+    if (auto s = (*w)->attach(a); !s) return s.error();
   return std::unique_ptr<RecordingSource>(new RecordingSource(std::move(inner), std::move(w.value()), path));
 }
 

@@ -16,7 +16,10 @@ class RecordingSource final : public hal::EventSource {
   static Result<std::unique_ptr<RecordingSource>> open(std::unique_ptr<hal::EventSource> inner,
                                                        const std::string& path,
                                                        const FixtureMetadata& metadata,
-                                                       const WriterOptions& options = {});
+                                                       const WriterOptions& options = {},
+                                                       const std::vector<Attachment>& attachments = {});
+  // `attachments` (e.g. the scene of the fixture whose metadata a live run copies) are
+  // written before the first event, so the recording is as self-contained as its source.
   // Pulls from the inner source and records the event before handing it on. At the end
   // of the stream the fixture is closed (summary and footer written). An inner error is
   // passed on unchanged and the recording continues with whatever follows.

@@ -56,6 +56,9 @@ nlohmann::ordered_json to_json(const replay::FixtureSummary& s) {
     j["channels"].push_back(cj);
   }
   j["metadata"] = s.metadata;
+  j["attachments"] = nlohmann::ordered_json::array();
+  for (const auto& a : s.attachments)
+    j["attachments"].push_back({{"name", a.name}, {"media_type", a.media_type}, {"bytes", a.bytes}});
   j["recovery"] = {{"complete", s.recovery.complete},
                    {"bytes_total", s.recovery.bytes_total},
                    {"bytes_recovered", s.recovery.bytes_recovered},
@@ -82,6 +85,8 @@ void print_text(const replay::FixtureSummary& s, const InspectOptions& o) {
   }
   std::cout << "metadata:\n";
   for (const auto& [k, v] : s.metadata) std::cout << "  " << k << ": " << v << "\n";
+  std::cout << "attachments:" << (s.attachments.empty() ? " none (no embedded scene)" : "") << "\n";
+  for (const auto& a : s.attachments) std::cout << "  " << a.name << " (" << a.media_type << ", " << a.bytes << " bytes)\n";
   if (s.recovery.complete) {
     std::cout << "recovery: complete file\n";
   } else {

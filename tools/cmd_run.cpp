@@ -119,7 +119,7 @@ int run_live(const RunArgs& a) {
   std::unique_ptr<hal::EventSource> source = std::move(watched_owned);
   replay::RecordingSource* recording = nullptr;
   if (!a.record.empty()) {
-    auto r = replay::RecordingSource::open(std::move(source), a.record, meta);
+    auto r = replay::RecordingSource::open(std::move(source), a.record, meta, {}, scene_files);
     if (!r) {
       std::cerr << "orthosonar run: " << r.error().message << "\n";
       return 2;

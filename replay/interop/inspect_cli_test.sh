@@ -16,10 +16,12 @@ fail() { echo "inspect-cli FAILED: $*"; exit 1; }
 grep -q "/sonar/horizontal/ping *orthosonar_msgs/OculusPing *30 msgs" text.out || fail "text output: $(cat text.out)"
 grep -q "recovery: complete file" text.out || fail "no recovery line"
 grep -q "scene: interop" text.out || fail "no metadata"
+grep -q "interop.txt (text/plain, 30 bytes)" text.out || fail "no attachment line: $(cat text.out)"
 
 "$cli" inspect full.mcap --json >json.out 2>&1 || fail "--json exit $?"
 grep -q '"messages": 375' json.out || fail "json messages: $(head -20 json.out)"
 grep -q '"topic": "/imu/data"' json.out || fail "json channels"
+grep -q '"name": "interop.txt"' json.out || fail "json attachments"
 
 size=$(wc -c <full.mcap)
 head -c $((size * 2 / 3)) full.mcap >cut.mcap
