@@ -2,8 +2,6 @@
 // generated seafloor, and a route inline or in a CSV file.
 #include <yaml-cpp/yaml.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -119,57 +117,15 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
   return s;
 }
 
-// ---- embedded scenes: mesh_io reads and writes PLY by path, so the embedded mesh passes
-// through a private temporary file.
-class TempFile {
- public:
-  TempFile() {
-    std::error_code ec;
-    const fs::path dir = fs::temp_directory_path(ec);
-    std::string t = ((ec ? fs::path("/tmp") : dir) / "orthosonar-scene-XXXXXX.ply").string();
-    const int fd = ::mkstemps(t.data(), 4);
-    if (fd >= 0) {
-      ::close(fd);
-      path_ = t;
-    }
-  }
-  ~TempFile() {
-    if (!path_.empty()) std::remove(path_.c_str());
-  }
-  TempFile(const TempFile&) = delete;
-  TempFile& operator=(const TempFile&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
+// ---- embedded scenes: the mesh as binary PLY bytes, through mesh_io's in-memory codec
+// (the same bytes write_mesh_ply writes, read by the one bounded PLY parser).
 Result<std::vector<uint8_t>> ply_bytes(const TriangleMesh& mesh) {
-  TempFile tmp;
-  if (tmp.path().empty()) return Error{"cannot create a temporary file for the scene mesh"};
-  if (Status s = write_mesh_ply(mesh, tmp.path()); !s) return s.error();
-  std::ifstream f(tmp.path(), std::ios::binary);
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  if (f.bad()) return Error{"cannot read back the scene mesh from '" + tmp.path() + "'"};
-  return bytes;
+  const std::string bytes = encode_mesh_ply(mesh);
+  return std::vector<uint8_t>(bytes.begin(), bytes.end());
 }
 
 Result<TriangleMesh> mesh_from_ply_bytes(const std::vector<uint8_t>& bytes, const std::string& name) {
-  TempFile tmp;
-  if (tmp.path().empty()) return Error{"cannot create a temporary file for '" + name + "'"};
-  {
-    std::ofstream f(tmp.path(), std::ios::binary);
-    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!f) return Error{"cannot write '" + name + "' to '" + tmp.path() + "'"};
-  }
-  auto mesh = read_mesh_ply(tmp.path());
-  if (!mesh) {
-    std::string msg = mesh.error().message;  // name the attachment, not the temporary file
-    for (size_t at = msg.find(tmp.path()); at != std::string::npos; at = msg.find(tmp.path(), at + name.size()))
-      msg.replace(at, tmp.path().size(), name);
-    return Error{msg};
-  }
-  return mesh;
+  return decode_mesh_ply(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), name);
 }
 
 // Shortest text that reads back as the same double.
