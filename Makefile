@@ -1,5 +1,5 @@
 # Thin conveniences over CMake presets; the README's commands are the reference.
-.PHONY: deps build test demo asan bench clean
+.PHONY: deps build test demo asan fuzz bench clean
 deps:
 	bash tools/install-deps
 build: deps
@@ -9,7 +9,9 @@ test: build
 demo: build
 	xvfb-run -a build/release/tools/orthosonar demo -o out/demo
 asan: deps
-	cmake --preset asan && cmake --build --preset asan -j2 && xvfb-run -a ctest --preset asan -j2 -LE golden
+	cmake --preset asan && cmake --build --preset asan -j2 && xvfb-run -a ctest --preset asan -j2
+fuzz: deps
+	cmake --preset fuzz && cmake --build --preset fuzz -j2 && tools/fuzz-all 15
 bench: build
 	build/release/orthosonar_bench
 clean:

@@ -2,6 +2,7 @@
 #   <stage>.cpp / <stage>.hpp     library sources
 #   <stage>_test.cpp              Catch2 tests, linked into <target>_tests and registered with ctest
 #   <stage>_bench.cpp             Google Benchmark cases, linked into the one orthosonar_bench
+#   <stage>_fuzz.cpp              a libFuzzer harness, built as fuzz_<stage> (fuzz preset only)
 # New files are picked up on the next build (CONFIGURE_DEPENDS).
 
 # Warnings are errors only where asked for: ORTHOSONAR_WERROR (default ON when the
@@ -43,7 +44,7 @@ function(orthosonar_install_module target dir)
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
   file(GLOB headers CONFIGURE_DEPENDS ${dir}/*.hpp)
-  list(FILTER headers EXCLUDE REGEX "/(test_support|test_dir|testing)\\.hpp$")
+  list(FILTER headers EXCLUDE REGEX "/(test_support|test_dir|testing|fuzz_support)\\.hpp$")
   file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR} ${dir})
   if(headers)
     install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/orthosonar/${rel})
@@ -51,9 +52,12 @@ function(orthosonar_install_module target dir)
   set_property(GLOBAL APPEND PROPERTY ORTHOSONAR_INSTALLED_MODULES ${target})
 endfunction()
 
-# orthosonar_module(<target> [DIR dir] LIBS <public deps...> [TEST_LIBS ...] [LABELS ...])
+# orthosonar_module(<target> [DIR dir] LIBS <public deps...> [TEST_LIBS ...] [LABELS ...]
+#                   [FUZZ_SOURCES <module sources> FUZZ_LIBS <deps>])
+# A harness links the module's library, or, when FUZZ_SOURCES is given, compiles just those
+# sources of the module with FUZZ_LIBS (a parser in a module whose library pulls in much more).
 function(orthosonar_module target)
-  cmake_parse_arguments(M "" "DIR" "LIBS;PRIVATE_LIBS;TEST_LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(M "" "DIR" "LIBS;PRIVATE_LIBS;TEST_LIBS;LABELS;FUZZ_SOURCES;FUZZ_LIBS" ${ARGN})
   if(NOT M_DIR)
     set(M_DIR ${CMAKE_CURRENT_SOURCE_DIR})
   endif()
@@ -64,11 +68,14 @@ function(orthosonar_module target)
   set(lib_src "")
   set(test_src "")
   set(bench_src "")
+  set(fuzz_src "")
   foreach(f ${all_cpp})
     if(f MATCHES "_test\\.cpp$")
       list(APPEND test_src ${f})
     elseif(f MATCHES "_bench\\.cpp$")
       list(APPEND bench_src ${f})
+    elseif(f MATCHES "_fuzz\\.cpp$")
+      list(APPEND fuzz_src ${f})
     else()
       list(APPEND lib_src ${f})
     endif()
@@ -94,6 +101,11 @@ function(orthosonar_module target)
     target_link_libraries(${target} PUBLIC ${M_LIBS} PRIVATE ${M_PRIVATE_LIBS})
     orthosonar_warnings(${target})
   endif()
+  if(ORTHOSONAR_SANITIZE)
+    # A sanitized static library needs the sanitizer runtime wherever it is linked, including
+    # by an installed consumer (find_package(orthosonar) from an asan build).
+    target_link_options(${target} INTERFACE -fsanitize=${ORTHOSONAR_SANITIZE})
+  endif()
   orthosonar_install_module(${target} ${M_DIR})
   if(ORTHOSONAR_BUILD_TESTS AND test_src)
     add_executable(${target}_tests ${test_src})
@@ -102,6 +114,25 @@ function(orthosonar_module target)
     catch_discover_tests(${target}_tests
       TEST_PREFIX "${target}:"
       PROPERTIES LABELS "${M_LABELS}")  # environment: see property_tests/catch_main.cpp
+  endif()
+  if(ORTHOSONAR_BUILD_FUZZ)
+    foreach(f ${fuzz_src})
+      get_filename_component(stem ${f} NAME_WE)
+      string(REGEX REPLACE "_fuzz$" "" stem ${stem})
+      if(M_FUZZ_SOURCES)
+        list(TRANSFORM M_FUZZ_SOURCES PREPEND ${M_DIR}/ OUTPUT_VARIABLE own_src)
+        add_executable(fuzz_${stem} ${f} ${own_src})
+        target_include_directories(fuzz_${stem} PRIVATE ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR}/generated)
+        target_link_libraries(fuzz_${stem} PRIVATE ${M_FUZZ_LIBS})
+      else()
+        add_executable(fuzz_${stem} ${f})
+        target_link_libraries(fuzz_${stem} PRIVATE ${target} ${M_PRIVATE_LIBS})
+      endif()
+      target_link_options(fuzz_${stem} PRIVATE -fsanitize=fuzzer)
+      set_target_properties(fuzz_${stem} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/fuzz)
+      orthosonar_warnings(fuzz_${stem})
+      add_dependencies(fuzzers fuzz_${stem})
+    endforeach()
   endif()
   if(bench_src)
     set_property(GLOBAL APPEND PROPERTY ORTHOSONAR_BENCH_SOURCES ${bench_src})

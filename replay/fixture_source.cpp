@@ -99,12 +99,14 @@ Result<std::unique_ptr<FixtureSource>> FixtureSource::open(const std::string& pa
   if (!file) return file.error();
   auto layout = mcap::scan(**file);
   if (!layout) return layout.error();
-  if (layout->recovery.complete) {
-    uint64_t n = layout->loose_message_count;
-    if (layout->statistics) n = layout->statistics->message_count;
-    layout->recovery.messages_recovered = n;
-  }
-  return std::unique_ptr<FixtureSource>(new McapSource(std::move(file.value()), std::move(layout.value())));
+  return mcap::make_source(std::move(file.value()), std::move(layout.value()));
 }
 
+namespace mcap {
+
+std::unique_ptr<FixtureSource> make_source(std::unique_ptr<MappedFile> file, Layout layout) {
+  return std::make_unique<McapSource>(std::move(file), std::move(layout));
+}
+
+}  // namespace mcap
 }  // namespace orthosonar::replay

@@ -21,26 +21,25 @@ bool has_mcap_magic(const std::string& path) {
 Result<FixtureSummary> summarize_fixture(const std::string& path) {
   auto file = mcap::MappedFile::open(path);
   if (!file) return file.error();
-  auto layout = mcap::scan(**file, /*count_messages=*/false);
+  auto layout = mcap::scan(**file);
   if (!layout) return layout.error();
   FixtureSummary s;
   s.path = path;
   s.profile = layout->profile;
   s.library = layout->library;
   s.file_bytes = (*file)->size();
-  s.chunks = layout->chunks.size();
-  for (const auto& c : layout->chunks)
-    if (std::find(s.compressions.begin(), s.compressions.end(), c.compression) == s.compressions.end())
-      s.compressions.push_back(c.compression);
-
-  auto src = FixtureSource::open(path);
-  if (!src) return src.error();
-  s.metadata = (*src)->metadata();
-  s.recovery = (*src)->recovery();
-  for (const auto& a : (*src)->attachments()) s.attachments.push_back({a.name, a.media_type, a.data.size()});
+  s.read = layout->read;
+  s.chunks = s.read.chunk_count;
+  s.compressions = s.read.compressions;
+  const auto channels = layout->channels;
+  // One scan: the source replays the layout just read (a linear scan is not done twice).
+  const auto src = mcap::make_source(std::move(file.value()), std::move(layout.value()));
+  s.metadata = src->metadata();
+  s.recovery = src->recovery();
+  for (const auto& a : src->attachments()) s.attachments.push_back({a.name, a.media_type, a.data.size()});
   std::array<std::vector<Time>, kChannelCount> stamps;
   for (;;) {
-    auto p = (*src)->next();
+    auto p = src->next();
     if (p.error) return *p.error;
     if (p.end_of_stream) break;
     stamps[static_cast<size_t>(p.event->channel)].push_back(p.event->stamp);
@@ -52,7 +51,7 @@ Result<FixtureSummary> summarize_fixture(const std::string& path) {
     const auto ch = static_cast<Channel>(c);
     const auto& t = stamps[static_cast<size_t>(c)];
     bool defined = false;
-    for (const auto& [id, ref] : layout->channels) defined = defined || ref.channel == ch;
+    for (const auto& [id, ref] : channels) defined = defined || ref.channel == ch;
     if (t.empty() && !defined) continue;
     ChannelSummary cs;
     cs.topic = channel_topic(ch);

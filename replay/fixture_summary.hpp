@@ -8,6 +8,7 @@
 
 #include "core/time.hpp"
 #include "replay/fixture.hpp"
+#include "replay/mcap_reader.hpp"
 
 namespace orthosonar::replay {
 
@@ -30,6 +31,7 @@ struct FixtureSummary {
   uint64_t messages = 0;
   uint64_t chunks = 0;
   std::vector<std::string> compressions;  // distinct chunk compressions ("" = none)
+  mcap::ReadInfo read;                    // how the file was read: summary or linear scan, ...
   Time start, end;                        // first and last stamp
   Time duration() const { return end - start; }
   FixtureMetadata metadata;

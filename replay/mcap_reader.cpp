@@ -9,6 +9,7 @@
 #include <cstring>
 #include <sstream>
 
+#include <lz4frame.h>
 #include <zstd.h>
 
 #include "replay/mcap_format.hpp"
@@ -21,6 +22,11 @@ constexpr uint64_t kMaxChunkBytes = uint64_t{1} << 30;
 constexpr uint64_t kReleaseBytes = uint64_t{8} << 20;       // the scan releases what it read in steps of this
 constexpr uint64_t kMaxLooseRunBytes = uint64_t{8} << 20;   // a run of loose messages: at most this many bytes
 constexpr uint64_t kMaxLooseRunNs = 1'000'000'000;          // ... and this span of log time
+// An LZ4 sequence encodes at most 255 more output bytes per input byte, so a frame cannot
+// expand more than 255-fold (plus a little for tiny frames): a chunk claiming more is
+// rejected before its buffer is allocated (the frame's content size field is optional).
+constexpr uint64_t kLz4MaxRatio = 255;
+constexpr uint64_t kLz4Slack = 4096;
 
 std::string hex(uint64_t v) {
   std::ostringstream s;
@@ -30,6 +36,19 @@ std::string hex(uint64_t v) {
 
 Error at(const std::string& path, uint64_t offset, const std::string& what) {
   return Error{path + ": " + what + " at byte offset " + std::to_string(offset)};
+}
+
+// Where a record is: a file offset, or an offset inside a chunk's uncompressed records
+// (chunk: the Chunk record's file offset, never 0 as the file starts with the magic).
+struct Loc {
+  uint64_t chunk = 0;
+  uint64_t offset = 0;
+};
+
+Error at(const std::string& path, Loc l, const std::string& what) {
+  if (l.chunk == 0) return at(path, l.offset, what);
+  return Error{path + ": " + what + " at offset " + std::to_string(l.offset) + " inside the chunk at byte offset " +
+               std::to_string(l.chunk)};
 }
 
 std::optional<Channel> channel_for_topic(const std::string& topic) {
@@ -56,25 +75,20 @@ struct Schema {
 };
 
 // Decodes one Message record body (after opcode and length).
-Status decode_message(const std::string& path, const Layout& layout, const uint8_t* p, uint64_t n,
-                      uint64_t chunk_offset, uint64_t offset, std::vector<LocatedEvent>& out) {
+Status decode_message(const std::string& path, const Layout& layout, const uint8_t* p, uint64_t n, Loc loc,
+                      std::vector<LocatedEvent>& out) {
   ByteReader r(p, n);
   const uint16_t id = r.u16();
   const uint32_t seq = r.u32();
   const uint64_t log_time = r.u64();
   r.u64();  // publish time
-  LocatedEvent le{{}, chunk_offset, offset};
-  auto where = [&](const std::string& what) {
-    if (chunk_offset == 0) return at(path, offset, what);
-    return Error{path + ": " + what + " at offset " + std::to_string(offset) +
-                 " inside the chunk at byte offset " + std::to_string(chunk_offset)};
-  };
-  if (!r.ok()) return where("truncated message record");
+  LocatedEvent le{{}, loc.chunk, loc.offset};
+  if (!r.ok()) return at(path, loc, "truncated message record");
   const auto it = layout.channels.find(id);
-  if (it == layout.channels.end()) return where("message on undefined channel id " + std::to_string(id));
-  if (log_time > static_cast<uint64_t>(INT64_MAX)) return where("log time out of range");
+  if (it == layout.channels.end()) return at(path, loc, "message on undefined channel id " + std::to_string(id));
+  if (log_time > static_cast<uint64_t>(INT64_MAX)) return at(path, loc, "log time out of range");
   auto payload = ros1::decode(it->second.channel, r.here(), r.remaining());
-  if (!payload) return where("cannot decode " + it->second.topic + " message: " + payload.error().message);
+  if (!payload) return at(path, loc, "cannot decode " + it->second.topic + " message: " + payload.error().message);
   le.event.stamp = Time::from_ns(static_cast<int64_t>(log_time));
   le.event.channel = it->second.channel;
   le.event.sequence = seq;
@@ -83,11 +97,105 @@ Status decode_message(const std::string& path, const Layout& layout, const uint8
   return {};
 }
 
+// Decompresses an LZ4 frame (MCAP's "lz4") of exactly c.uncompressed_size bytes into `out`.
+Status lz4_frame(const std::string& path, const ChunkRef& c, const uint8_t* src, std::vector<uint8_t>& out) {
+  if (c.uncompressed_size > kLz4MaxRatio * c.compressed_size + kLz4Slack)
+    return at(path, c.offset, "lz4 chunk claims " + std::to_string(c.uncompressed_size) + " uncompressed bytes from " +
+                                  std::to_string(c.compressed_size) + " compressed (more than lz4 can expand)");
+  LZ4F_dctx* raw = nullptr;
+  if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION)))
+    return at(path, c.offset, "cannot create an lz4 decompression context for the chunk");
+  const std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> dctx(raw, LZ4F_freeDecompressionContext);
+  auto fail = [&](const std::string& what) { return at(path, c.offset, "lz4 chunk " + what); };
+  LZ4F_frameInfo_t info{};
+  size_t in = static_cast<size_t>(c.compressed_size);
+  size_t hint = LZ4F_getFrameInfo(dctx.get(), &info, src, &in);
+  if (LZ4F_isError(hint)) return fail(std::string("is not an lz4 frame (") + LZ4F_getErrorName(hint) + ")");
+  if (info.contentSize != 0 && info.contentSize != c.uncompressed_size)
+    return fail("frame states " + std::to_string(info.contentSize) + " bytes, the chunk " +
+                std::to_string(c.uncompressed_size));
+  out.resize(static_cast<size_t>(c.uncompressed_size));
+  size_t in_pos = in, out_pos = 0;
+  while (hint != 0) {
+    size_t dst_n = out.size() - out_pos;
+    size_t src_n = static_cast<size_t>(c.compressed_size) - in_pos;
+    hint = LZ4F_decompress(dctx.get(), out.data() + out_pos, &dst_n, src + in_pos, &src_n, nullptr);
+    if (LZ4F_isError(hint)) return fail(std::string("does not decompress (") + LZ4F_getErrorName(hint) + ")");
+    in_pos += src_n;
+    out_pos += dst_n;
+    if (hint != 0 && dst_n == 0 && src_n == 0) {
+      // No progress: either the output is full but the frame goes on, or the input ended.
+      if (out_pos == out.size())
+        return fail("decompresses to more than its stated " + std::to_string(c.uncompressed_size) + " bytes");
+      return fail("frame ends early (after " + std::to_string(out_pos) + " of " +
+                  std::to_string(c.uncompressed_size) + " bytes)");
+    }
+  }
+  if (out_pos != out.size())
+    return fail("decompresses to " + std::to_string(out_pos) + " bytes, not its stated " +
+                std::to_string(c.uncompressed_size));
+  if (in_pos != c.compressed_size) return fail("has " + std::to_string(c.compressed_size - in_pos) + " bytes after its frame");
+  return {};
+}
+
+// The records of a chunk (or a run of loose messages): decompressed into `scratch` when
+// compressed, and CRC-checked.
+Result<const uint8_t*> chunk_records(const MappedFile& file, const ChunkRef& c, std::vector<uint8_t>& scratch) {
+  const std::string& path = file.path();
+  const uint8_t* src = file.data() + c.records_offset;
+  const uint8_t* records = src;
+  if (c.compression == "zstd") {
+    // The frame states its size (our writer always records it): check before allocating.
+    const unsigned long long fcs = ZSTD_getFrameContentSize(src, c.compressed_size);
+    if (fcs == ZSTD_CONTENTSIZE_ERROR || (fcs != ZSTD_CONTENTSIZE_UNKNOWN && fcs != c.uncompressed_size))
+      return at(path, c.offset, "chunk is not a zstd frame of the stated size");
+    scratch.resize(c.uncompressed_size);
+    const size_t n = ZSTD_decompress(scratch.data(), scratch.size(), src, c.compressed_size);
+    if (ZSTD_isError(n)) return at(path, c.offset, std::string("chunk does not decompress (") + ZSTD_getErrorName(n) + ")");
+    if (n != c.uncompressed_size) return at(path, c.offset, "chunk decompresses to the wrong size");
+    records = scratch.data();
+  } else if (c.compression == "lz4") {
+    if (auto s = lz4_frame(path, c, src, scratch); !s) return s.error();
+    records = scratch.data();
+  } else if (c.compressed_size != c.uncompressed_size) {
+    return at(path, c.offset, "uncompressed chunk with inconsistent sizes");
+  }
+  if (c.uncompressed_crc != 0) {
+    const uint32_t actual = crc32(0, records, c.uncompressed_size);
+    if (actual != c.uncompressed_crc)
+      return at(path, c.offset, "chunk CRC mismatch (stored " + hex(c.uncompressed_crc) + ", computed " + hex(actual) + ")");
+  }
+  return records;
+}
+
+// One record inside a chunk's records: opcode, body and where it is.
+struct InnerRecord {
+  uint8_t op = 0;
+  const uint8_t* body = nullptr;
+  uint64_t len = 0;
+};
+
+// Splits a chunk's records; calls f(record, pos) for each, stopping at the first error.
+template <class F>
+Status for_each_record(const std::string& path, const ChunkRef& c, const uint8_t* records, F&& f) {
+  uint64_t pos = 0;
+  while (pos < c.uncompressed_size) {
+    ByteReader r(records + pos, c.uncompressed_size - pos);
+    const uint8_t op = r.u8();
+    const uint64_t len = r.u64();
+    if (!r.ok() || len > r.remaining())
+      return at(path, Loc{c.offset, pos}, "record runs past the end of the chunk");
+    if (auto s = f(InnerRecord{op, r.here(), len}, pos); !s) return s;
+    pos += kRecordPrefix + len;
+  }
+  return {};
+}
+
 class Scanner {
  public:
   Scanner(const MappedFile& f) : f_(f), path_(f.path()) {}
 
-  Result<Layout> run(bool count_messages) {
+  Result<Layout> run() {
     const uint8_t* d = f_.data();
     const size_t size = f_.size();
     L_.recovery.bytes_total = size;
@@ -95,14 +203,23 @@ class Scanner {
       return at(path_, 0, "not an MCAP file: bad magic");
     if (d[5] != kMagic[5])
       return at(path_, 5, std::string("unsupported MCAP version '") + static_cast<char>(d[5]) + "'");
-    // A complete file's summary is checked before any of it is used.
+    // A complete file's summary is checked (CRC) and read before the data section: when it
+    // lists every channel, chunks are only located now and read when replayed; otherwise
+    // the data section is read by a linear scan.
     if (size >= 2 * kMagicSize + 2 * kRecordPrefix + 20 &&
         std::memcmp(d + size - kMagicSize, kMagic, kMagicSize) == 0) {
       const uint64_t fpos = size - kMagicSize - kRecordPrefix - 20;
       ByteReader fr(d + fpos, kRecordPrefix + 20);
-      if (fr.u8() == static_cast<uint8_t>(Op::kFooter) && fr.u64() == 20)
+      if (fr.u8() == static_cast<uint8_t>(Op::kFooter) && fr.u64() == 20) {
         if (auto s = footer_record(fpos, d + fpos + kRecordPrefix, 20); !s) return s.error();
+        footer_pos_ = fpos;
+        if (summary_start_ != 0) {
+          L_.read.summary_present = true;
+          if (auto s = read_summary(summary_start_, fpos); !s) return s.error();
+        }
+      }
     }
+    linear_ = !summary_used_;
     uint64_t pos = kMagicSize;
     bool footer = false, data_end = false;
     uint64_t good_end = pos;
@@ -117,11 +234,15 @@ class Scanner {
       const uint64_t len = lr.u64();
       if (op == 0 || (op > kMaxOpcode && op < 0x80))
         return at(path_, pos, "unsupported record opcode " + hex(op));
+      auto what = [&] { return "record (opcode " + hex(op) + ", " + std::to_string(len) + " bytes)"; };
       if (len > size - pos - kRecordPrefix) {
-        truncated(pos, "record (opcode " + hex(op) + ", " + std::to_string(len) +
-                           " bytes) runs past the end of the file");
+        // A recording cut short, unless the file ends with its footer: then the length lies.
+        if (footer_pos_ != 0) return at(path_, pos, what() + " runs past the end of the file");
+        truncated(pos, what() + " runs past the end of the file");
         break;
       }
+      if (footer_pos_ != 0 && op != static_cast<uint8_t>(Op::kFooter) && pos + kRecordPrefix + len > footer_pos_)
+        return at(path_, pos, what() + " runs into the footer");
       if (pos == kMagicSize && op != static_cast<uint8_t>(Op::kHeader))
         return at(path_, pos, "first record is not a Header");
       const uint8_t* body = d + pos + kRecordPrefix;
@@ -144,20 +265,26 @@ class Scanner {
       good_end = pos;
       advance(pos, !data_end);
     }
+    if (!footer && !linear_) {
+      // Defensive (a file ending with its footer reaches it or fails above): what was read
+      // is counted like a truncated recording's, every chunk kept CRC-checked.
+      linear_ = true;
+      chunk_messages_ = 0;
+      for (const auto& c : L_.chunks)
+        if (auto s = harvest(c); !s) return s.error();
+    }
     f_.release(0, size);  // the summary read above, and the tail of the data section
     L_.recovery.bytes_recovered = footer ? size : good_end;
-    if (!footer && count_messages) {
-      // A truncated recording: decode what is left so the count is honest and every
-      // recovered chunk is CRC-checked.
-      std::vector<LocatedEvent> events;
-      std::vector<uint8_t> scratch;
-      for (const auto& c : L_.chunks) {
-        events.clear();
-        if (auto s = read_chunk(f_, L_, c, events, scratch); !s) return s.error();
-        L_.recovery.messages_recovered += events.size();
-      }
-      L_.recovery.messages_recovered += L_.loose_message_count;
-    }
+    L_.read.read_by_linear_scan = linear_;
+    L_.read.truncated_bytes = size - L_.recovery.bytes_recovered;
+    L_.read.chunk_count = L_.chunks.size();
+    L_.read.loose_message_count = L_.loose_message_count;
+    for (const auto& c : L_.chunks)
+      if (std::find(L_.read.compressions.begin(), L_.read.compressions.end(), c.compression) ==
+          L_.read.compressions.end())
+        L_.read.compressions.push_back(c.compression);
+    L_.message_count = linear_ ? chunk_messages_ + L_.loose_message_count : L_.statistics->message_count;
+    L_.recovery.messages_recovered = L_.message_count;
     return std::move(L_);
   }
 
@@ -195,12 +322,48 @@ class Scanner {
     }
     if (std::memcmp(f_.data() + end, kMagic, kMagicSize) != 0 || f_.size() - end != kMagicSize)
       return at(path_, end, "bad trailing magic");
+    if (summary_start != 0 && (summary_start > pos || summary_start < kMagicSize))
+      return at(path_, pos, "footer summary_start " + std::to_string(summary_start) + " outside the file's records");
     if (stored != 0 && summary_start != 0) {
-      if (summary_start > pos) return at(path_, pos, "footer summary_start past the footer");
       const uint32_t actual = crc32(0, f_.data() + summary_start, pos + kRecordPrefix + 16 - summary_start);
       if (actual != stored)
         return at(path_, pos, "summary CRC mismatch (stored " + hex(stored) + ", computed " + hex(actual) + ")");
     }
+    summary_start_ = summary_start;
+    return {};
+  }
+
+  // Reads the Schema, Channel and Statistics records of the summary section [start, end)
+  // and decides whether it can stand in for a linear scan: its Statistics record must
+  // count messages per channel and every channel counted must have its Channel record.
+  Status read_summary(uint64_t start, uint64_t end) {
+    const uint8_t* d = f_.data();
+    for (uint64_t pos = start; pos < end;) {
+      if (end - pos < kRecordPrefix) return at(path_, pos, "summary record header runs into the footer");
+      const uint8_t op = d[pos];
+      ByteReader lr(d + pos + 1, 8);
+      const uint64_t len = lr.u64();
+      if (len > end - pos - kRecordPrefix)
+        return at(path_, pos, "summary record (opcode " + hex(op) + ", " + std::to_string(len) + " bytes) runs into the footer");
+      if (op == static_cast<uint8_t>(Op::kSchema) || op == static_cast<uint8_t>(Op::kChannel) ||
+          op == static_cast<uint8_t>(Op::kStatistics))
+        if (auto s = record(op, pos, d + pos + kRecordPrefix, len, true); !s) return s;
+      pos += kRecordPrefix + len;
+    }
+    std::string note;
+    if (!L_.statistics) {
+      note = "the summary has no Statistics record";
+    } else if (L_.statistics->channel_counts.empty() && L_.statistics->message_count != 0) {
+      note = "the summary's Statistics record does not count messages per channel";
+    } else {
+      for (const auto& [id, n] : L_.statistics->channel_counts)
+        if (L_.channels.find(id) == L_.channels.end()) {
+          note = "channel id " + std::to_string(id) + " has no Channel record in the summary";
+          break;
+        }
+    }
+    summary_used_ = note.empty();
+    L_.read.summary_note = note;
     return {};
   }
 
@@ -212,17 +375,8 @@ class Scanner {
         L_.profile = r.str();
         L_.library = r.str();
         break;
-      case Op::kSchema: {
-        const uint16_t id = r.u16();
-        Schema s{r.str(), r.str()};
-        const uint32_t dl = r.u32();
-        r.take(dl);
-        if (!r.ok()) return at(path_, pos, "truncated Schema record");
-        if (id == 0) return at(path_, pos, "schema id 0 is reserved");
-        schemas_[id] = s;
-        break;
-      }
-      case Op::kChannel: return channel(pos, r);
+      case Op::kSchema: return schema(Loc{0, pos}, r);
+      case Op::kChannel: return channel(Loc{0, pos}, r);
       case Op::kMessage:
         if (in_summary) return at(path_, pos, "Message record in the summary section");
         return loose_message(pos, body, len);
@@ -238,11 +392,15 @@ class Scanner {
         c.compressed_size = r.u64();
         c.records_offset = pos + kRecordPrefix + r.pos();
         if (!r.ok() || c.compressed_size != r.remaining()) return at(path_, pos, "malformed Chunk record");
-        if (c.compression != "" && c.compression != "zstd")
+        if (c.compression != "" && c.compression != "zstd" && c.compression != "lz4")
           return at(path_, pos, "unsupported chunk compression '" + c.compression + "'");
         if (c.uncompressed_size > kMaxChunkBytes)
           return at(path_, pos, "chunk claims " + std::to_string(c.uncompressed_size) + " uncompressed bytes");
         if (c.start_ns > c.end_ns) return at(path_, pos, "chunk start time after its end time");
+        // A linear scan reads the chunk now, in file order: the Schema and Channel records
+        // inside it define channels for the records after it.
+        if (linear_)
+          if (auto s = harvest(c); !s) return s;
         L_.chunks.push_back(std::move(c));
         break;
       }
@@ -298,36 +456,79 @@ class Scanner {
         L_.statistics = s;
         break;
       }
-      default: break;  // indexes: the linear scan does not need them
+      case Op::kMessageIndex: L_.read.message_indexes = true; break;
+      case Op::kChunkIndex: L_.read.chunk_indexes = true; break;
+      default: break;  // other indexes: the scan does not need them
     }
     if (!r.ok()) return at(path_, pos, "malformed record (opcode " + hex(op) + ")");
     return {};
   }
 
-  Status channel(uint64_t pos, ByteReader& r) {
+  Status schema(Loc loc, ByteReader& r) {
+    const uint16_t id = r.u16();
+    Schema s{r.str(), r.str()};
+    const uint32_t dl = r.u32();
+    r.take(dl);
+    if (!r.ok()) return at(path_, loc, "truncated Schema record");
+    if (id == 0) return at(path_, loc, "schema id 0 is reserved");
+    schemas_[id] = s;
+    return {};
+  }
+
+  Status channel(Loc loc, ByteReader& r) {
     ChannelRef c;
     c.id = r.u16();
     const uint16_t schema_id = r.u16();
     c.topic = r.str();
     const std::string encoding = r.str();
     std::map<std::string, std::string> meta;
-    if (!read_map(r, meta) || !r.ok()) return at(path_, pos, "malformed Channel record");
+    if (!read_map(r, meta) || !r.ok()) return at(path_, loc, "malformed Channel record");
     const auto s = schemas_.find(schema_id);
     if (s == schemas_.end())
-      return at(path_, pos, "channel " + c.topic + " uses undefined schema id " + std::to_string(schema_id));
+      return at(path_, loc, "channel " + c.topic + " uses undefined schema id " + std::to_string(schema_id));
     c.schema_name = s->second.name;
     const auto ch = channel_for_topic(c.topic);
-    if (!ch) return at(path_, pos, "unknown topic '" + c.topic + "'");
+    if (!ch) return at(path_, loc, "unknown topic '" + c.topic + "'");
     c.channel = *ch;
     if (s->second.name != ros1::schema_for(*ch).name || s->second.encoding != kSchemaEncoding ||
         encoding != kMessageEncoding)
-      return at(path_, pos, "unknown schema '" + s->second.name + "' (" + s->second.encoding + "/" +
+      return at(path_, loc, "unknown schema '" + s->second.name + "' (" + s->second.encoding + "/" +
                                 encoding + ") for topic " + c.topic);
     const auto old = L_.channels.find(c.id);
     if (old != L_.channels.end() && (old->second.topic != c.topic || old->second.schema_name != c.schema_name))
-      return at(path_, pos, "channel id " + std::to_string(c.id) + " redefined");
+      return at(path_, loc, "channel id " + std::to_string(c.id) + " redefined");
     L_.channels[c.id] = std::move(c);
     return {};
+  }
+
+  // Linear scan: decompresses and CRC-checks a chunk, takes the Schema and Channel records
+  // inside it, and checks and counts its messages (decoding their payloads waits for
+  // read_chunk). The decompressed bytes live in scratch_ until the next chunk.
+  Status harvest(const ChunkRef& c) {
+    auto records = chunk_records(f_, c, scratch_);
+    if (!records) return records.error();
+    return for_each_record(path_, c, *records, [&](const InnerRecord& rec, uint64_t pos) -> Status {
+      const Loc loc{c.offset, pos};
+      ByteReader r(rec.body, rec.len);
+      switch (static_cast<Op>(rec.op)) {
+        case Op::kSchema: return schema(loc, r);
+        case Op::kChannel: return channel(loc, r);
+        case Op::kMessage: {
+          const uint16_t id = r.u16();
+          r.u32();
+          const uint64_t log_time = r.u64();
+          r.u64();
+          if (!r.ok()) return at(path_, loc, "truncated message record");
+          if (L_.channels.find(id) == L_.channels.end())
+            return at(path_, loc, "message on undefined channel id " + std::to_string(id));
+          if (log_time < c.start_ns || log_time > c.end_ns)
+            return at(path_, loc, "message log time outside its chunk's time range");
+          ++chunk_messages_;
+          return {};
+        }
+        default: return at(path_, loc, "unexpected opcode " + hex(rec.op));
+      }
+    });
   }
 
   // A Message record outside chunks: checks its header and channel now (decoding waits
@@ -369,6 +570,12 @@ class Scanner {
   const std::string& path_;
   Layout L_;
   std::map<uint16_t, Schema> schemas_;
+  uint64_t footer_pos_ = 0;      // of the footer, when the file ends with one (0: not found)
+  uint64_t summary_start_ = 0;   // from the footer (0: no summary)
+  bool summary_used_ = false;    // read_summary found it complete
+  bool linear_ = false;          // chunks are read (harvest) as the scan meets them
+  uint64_t chunk_messages_ = 0;  // messages inside chunks, counted by harvest
+  std::vector<uint8_t> scratch_;
   uint32_t data_crc_ = 0;
   uint64_t crc_end_ = 0;   // data_crc_ covers [0, crc_end_)
   uint64_t released_ = 0;  // [0, released_) released
@@ -418,9 +625,7 @@ MappedFile::~MappedFile() {
   if (data_ != nullptr) ::munmap(const_cast<uint8_t*>(data_), size_);
 }
 
-Result<Layout> scan(const MappedFile& file, bool count_messages) {
-  return Scanner(file).run(count_messages);
-}
+Result<Layout> scan(const MappedFile& file) { return Scanner(file).run(); }
 
 Status read_chunk(const MappedFile& file, const Layout& layout, const ChunkRef& c,
                   std::vector<LocatedEvent>& out, std::vector<uint8_t>& scratch) {
@@ -431,47 +636,31 @@ Status read_chunk(const MappedFile& file, const Layout& layout, const ChunkRef& 
     const ChunkRef& c;
     ~Release() { f.release(c.offset, c.records_offset + c.compressed_size - c.offset); }
   } release{file, c};
-  const uint8_t* src = file.data() + c.records_offset;
-  const uint8_t* records = src;
-  if (c.compression == "zstd") {
-    // The frame states its size (our writer always records it): check before allocating.
-    const unsigned long long fcs = ZSTD_getFrameContentSize(src, c.compressed_size);
-    if (fcs == ZSTD_CONTENTSIZE_ERROR || (fcs != ZSTD_CONTENTSIZE_UNKNOWN && fcs != c.uncompressed_size))
-      return at(path, c.offset, "chunk is not a zstd frame of the stated size");
-    scratch.resize(c.uncompressed_size);
-    const size_t n = ZSTD_decompress(scratch.data(), scratch.size(), src, c.compressed_size);
-    if (ZSTD_isError(n)) return at(path, c.offset, std::string("chunk does not decompress (") + ZSTD_getErrorName(n) + ")");
-    if (n != c.uncompressed_size) return at(path, c.offset, "chunk decompresses to the wrong size");
-    records = scratch.data();
-  } else if (c.compressed_size != c.uncompressed_size) {
-    return at(path, c.offset, "uncompressed chunk with inconsistent sizes");
-  }
-  const uint64_t size = c.uncompressed_size;
-  if (c.uncompressed_crc != 0) {
-    const uint32_t actual = crc32(0, records, size);
-    if (actual != c.uncompressed_crc)
-      return at(path, c.offset, "chunk CRC mismatch (stored " + hex(c.uncompressed_crc) + ", computed " + hex(actual) + ")");
-  }
-  uint64_t pos = 0;
+  auto records = chunk_records(file, c, scratch);
+  if (!records) return records.error();
   const size_t first = out.size();
-  while (pos < size) {
-    ByteReader r(records + pos, size - pos);
-    const uint8_t op = r.u8();
-    const uint64_t len = r.u64();
-    if (!r.ok() || len > r.remaining())
-      return Error{path + ": record runs past the end of the chunk at offset " + std::to_string(pos) +
-                   " inside the chunk at byte offset " + std::to_string(c.offset)};
-    if (op == static_cast<uint8_t>(Op::kMessage)) {
-      // Loose messages are located by file offset, as outside chunks they are.
-      const Status s = c.loose ? decode_message(path, layout, r.here(), len, 0, c.records_offset + pos, out)
-                               : decode_message(path, layout, r.here(), len, c.offset, pos, out);
-      if (!s) return s;
-    } else if (op != static_cast<uint8_t>(Op::kSchema) && op != static_cast<uint8_t>(Op::kChannel)) {
-      return Error{path + ": unexpected opcode " + hex(op) + " at offset " + std::to_string(pos) +
-                   " inside the chunk at byte offset " + std::to_string(c.offset)};
+  const Status s = for_each_record(path, c, *records, [&](const InnerRecord& rec, uint64_t pos) -> Status {
+    // Loose messages are located by file offset, as outside chunks they are.
+    const Loc loc = c.loose ? Loc{0, c.records_offset + pos} : Loc{c.offset, pos};
+    if (rec.op == static_cast<uint8_t>(Op::kMessage)) return decode_message(path, layout, rec.body, rec.len, loc, out);
+    if (rec.op == static_cast<uint8_t>(Op::kChannel)) {
+      // Other writers repeat Channel records inside chunks; the scan took them from the
+      // summary (or from this chunk, on a linear scan): they must agree.
+      ByteReader r(rec.body, rec.len);
+      const uint16_t id = r.u16();
+      r.u16();
+      const std::string topic = r.str();
+      if (!r.ok()) return at(path, loc, "malformed Channel record");
+      const auto it = layout.channels.find(id);
+      if (it != layout.channels.end() && it->second.topic != topic)
+        return at(path, loc, "channel id " + std::to_string(id) + " redefined (topic " + topic + ", was " +
+                                 it->second.topic + ")");
+      return {};
     }
-    pos += kRecordPrefix + len;
-  }
+    if (rec.op == static_cast<uint8_t>(Op::kSchema)) return {};
+    return at(path, loc, "unexpected opcode " + hex(rec.op));
+  });
+  if (!s) return s;
   for (size_t i = first; i < out.size(); ++i) {
     const auto t = static_cast<uint64_t>(out[i].event.stamp.ns());
     if (t < c.start_ns || t > c.end_ns)

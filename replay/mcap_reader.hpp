@@ -1,11 +1,13 @@
 #pragma once
-// Reading our MCAP fixtures: a memory-mapped file, a structural scan of its records
-// (checking magic, opcodes, the data section CRC and the summary CRC, and recovering the
-// readable prefix of a truncated file), and decoding one chunk into events.
+// Reading MCAP fixtures, ours and other writers' (docs/ARCHITECTURE.md, "MCAP files the
+// reader accepts"): a memory-mapped file, a structural scan of its records (checking
+// magic, opcodes, the data section CRC and the summary CRC, and recovering the readable
+// prefix of a truncated file), and decoding one chunk into events.
 // Errors name the file and the byte offset at fault.
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,7 +47,7 @@ struct ChunkRef {
   uint64_t compressed_size = 0;
   uint64_t uncompressed_size = 0;
   uint32_t uncompressed_crc = 0;
-  std::string compression;      // "" or "zstd"
+  std::string compression;      // "" (none), "zstd" or "lz4" (LZ4 frame format)
   uint64_t start_ns = 0, end_ns = 0;
   // A run of Message records outside chunks (Layout::loose_runs), read like an
   // uncompressed chunk: offset = records_offset = its first record's file offset.
@@ -75,6 +77,22 @@ struct Statistics {
   std::map<uint16_t, uint64_t> channel_counts;
 };
 
+// How a file was read (`orthosonar inspect` prints it).
+struct ReadInfo {
+  bool summary_present = false;      // the footer points at a summary section
+  // No usable summary (none, a truncated file, or one without a Statistics record that
+  // lists every channel): every chunk was decompressed once at open, front to back, to
+  // find the Schema and Channel records inside it and to count the messages.
+  bool read_by_linear_scan = false;
+  std::string summary_note;          // why a present summary was not used ("" otherwise)
+  uint64_t chunk_count = 0;
+  uint64_t loose_message_count = 0;  // Message records outside chunks
+  std::vector<std::string> compressions;  // distinct chunk compressions, in file order ("" = none)
+  bool message_indexes = false;      // Message Index records after chunks (the reader does not need them)
+  bool chunk_indexes = false;        // Chunk Index records in the summary (nor these)
+  uint64_t truncated_bytes = 0;      // bytes after the last complete record (0: a complete file)
+};
+
 struct Layout {
   std::string profile, library;
   FixtureMetadata metadata;
@@ -87,19 +105,29 @@ struct Layout {
   uint64_t loose_message_count = 0;
   std::vector<Attachment> attachments;       // Attachment records (CRC-checked), file order
   std::optional<Statistics> statistics;      // from the summary, when present
-  RecoveryReport recovery;
+  uint64_t message_count = 0;  // from the summary's Statistics, or counted by the linear scan
+  RecoveryReport recovery;     // messages_recovered = message_count
+  ReadInfo read;
 };
 
-// Scans the record structure. A truncated file (no footer, or a record running past the
-// end) is not an error: the layout covers the complete records and `recovery` says how
-// much was kept. With `count_messages`, a truncated file's chunks are decoded to count
-// (and CRC-check) the messages recovered.
-Result<Layout> scan(const MappedFile& file, bool count_messages = true);
+// Scans the record structure. Schema and Channel records are taken from the data section
+// (outside and, on a linear scan, inside chunks) and from the summary. The summary is
+// used when it is complete (a Statistics record whose channels all have Channel records);
+// otherwise the file is read by a linear scan (ReadInfo), decompressing and CRC-checking
+// each chunk once, in file order, one at a time (memory: one chunk). A truncated file (no
+// footer, or a record running past the end of a file that does not end with its footer)
+// is not an error: the layout covers the complete records and `recovery` says how much
+// was kept (a warning for the caller to show).
+Result<Layout> scan(const MappedFile& file);
 
 // Decompresses a chunk (or reads a run of loose messages), checks its CRC, and appends
 // its messages (decoded) to `out`, then releases the chunk's file bytes
 // (MappedFile::release). `scratch` is reused between calls.
 Status read_chunk(const MappedFile& file, const Layout& layout, const ChunkRef& chunk,
                   std::vector<LocatedEvent>& out, std::vector<uint8_t>& scratch);
+
+// The FixtureSource over a scanned file (FixtureSource::open is MappedFile::open, scan and
+// this; summarize_fixture uses the layout too). Defined in fixture_source.cpp.
+std::unique_ptr<FixtureSource> make_source(std::unique_ptr<MappedFile> file, Layout layout);
 
 }  // namespace orthosonar::replay::mcap

@@ -1,5 +1,6 @@
 // `orthosonar inspect f.mcap [--json]`: what a fixture holds. Files that are not MCAP
-// (no MCAP magic) are handed to the raw Oculus capture inspector.
+// (no MCAP magic) are handed to the raw Oculus capture inspector; `--protocol P` decodes a
+// raw capture of any device protocol (tools/support_inspect_protocol.hpp).
 // Exit codes: 0 a complete fixture, 1 a truncated fixture (readable prefix reported),
 // 2 unreadable or malformed input.
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "replay/fixture_summary.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_inspect_oculus.hpp"
+#include "tools/support_inspect_protocol.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -19,6 +21,8 @@ struct InspectOptions {
   std::string path;
   bool json = false;
   size_t max_gaps = 10;  // per channel, in the text output
+  std::string protocol;  // a raw device capture: oculus, vn100, a50, prti, depth
+  std::string csv;       // --protocol: decoded fields as CSV
 };
 
 std::string secs(Time t) {
@@ -40,6 +44,13 @@ nlohmann::ordered_json to_json(const replay::FixtureSummary& s) {
   j["messages"] = s.messages;
   j["chunks"] = s.chunks;
   j["compression"] = s.compressions;
+  j["summary"] = {{"present", s.read.summary_present},
+                  {"read_by_linear_scan", s.read.read_by_linear_scan},
+                  {"note", s.read.summary_note},
+                  {"loose_messages", s.read.loose_message_count},
+                  {"message_indexes", s.read.message_indexes},
+                  {"chunk_indexes", s.read.chunk_indexes},
+                  {"truncated_bytes", s.read.truncated_bytes}};
   j["channels"] = nlohmann::ordered_json::array();
   for (const auto& c : s.channels) {
     nlohmann::ordered_json cj;
@@ -72,6 +83,14 @@ void print_text(const replay::FixtureSummary& s, const InspectOptions& o) {
             << s.chunks << " chunks";
   for (const auto& c : s.compressions) std::cout << " [" << (c.empty() ? "uncompressed" : c) << "]";
   std::cout << "\n";
+  std::cout << "summary: " << (s.read.summary_present ? "present" : "missing")
+            << (s.read.read_by_linear_scan ? ", read by linear scan" : "")
+            << (s.read.summary_note.empty() ? "" : " (" + s.read.summary_note + ")") << "; compression: ";
+  for (size_t i = 0; i < s.compressions.size(); ++i)
+    std::cout << (i ? ", " : "") << (s.compressions[i].empty() ? "none" : s.compressions[i]);
+  if (s.compressions.empty()) std::cout << "none (no chunks)";
+  if (s.read.loose_message_count > 0) std::cout << "; " << s.read.loose_message_count << " messages outside chunks";
+  std::cout << "\n";
   std::cout << "duration: " << secs(s.duration()) << " s (" << secs(s.start) << " .. " << secs(s.end) << "), "
             << s.messages << " messages\n";
   std::cout << "channels:\n";
@@ -96,6 +115,11 @@ void print_text(const replay::FixtureSummary& s, const InspectOptions& o) {
 }
 
 int run_inspect(const InspectOptions& o) {
+  if (!o.protocol.empty()) return inspect_protocol_capture(o.path, o.protocol, o.json, o.csv);
+  if (!o.csv.empty()) {
+    std::cerr << "orthosonar inspect: --csv needs --protocol\n";
+    return 2;
+  }
   if (!replay::has_mcap_magic(o.path)) return inspect_oculus_capture(o.path, o.json);
   auto s = replay::summarize_fixture(o.path);
   if (!s) {
@@ -111,12 +135,16 @@ int run_inspect(const InspectOptions& o) {
 }
 
 const bool registered = register_command(
-    {"inspect", "Describe a fixture (.mcap) or a raw Oculus capture: channels, rates, gaps, metadata",
+    {"inspect", "Describe a fixture (.mcap) or a raw device capture (--protocol): channels, rates, gaps, metadata; decoded messages",
      [](CLI::App& sub) -> std::function<int()> {
        auto o = std::make_shared<InspectOptions>();
        sub.add_option("file", o->path, "Fixture (.mcap) or raw Oculus capture")->required();
        sub.add_flag("--json", o->json, "Machine-readable output");
        sub.add_option("--max-gaps", o->max_gaps, "Gaps listed per channel in the text output")->capture_default_str();
+       sub.add_option("--protocol", o->protocol,
+                      "Decode a raw device capture (serial/TCP bytes): oculus, vn100, a50, prti, depth")
+           ->check(CLI::IsMember({"oculus", "vn100", "a50", "prti", "depth"}));
+       sub.add_option("--csv", o->csv, "With --protocol: write the decoded fields as CSV here");
        return [o] { return run_inspect(*o); };
      }});
 

@@ -44,7 +44,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every usage error exits 2 like any other bad input
+    // (CLI11's own codes, 105 and up, are not part of our contract).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   for (auto& [sub, action] : actions) {
     if (sub->parsed()) {

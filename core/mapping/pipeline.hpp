@@ -82,6 +82,8 @@ class Pipeline {
   PipelineCounts counts() const;
   // Ground truth seen on the truth channel, in stamp order (metrics only).
   const std::vector<TruthPose>& truth() const { return truth_; }
+  // Moves the collected ground truth out (after finish(): one copy per run, not two).
+  std::vector<TruthPose> take_truth() { return std::move(truth_); }
   // Per-stage runtime: "fusion" (one pair), "slam_update" (one keyframe), and each
   // system's own stages prefixed by nothing (their names are unique).
   std::vector<std::pair<std::string, RuntimeStats>> runtime() const;

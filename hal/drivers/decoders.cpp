@@ -87,11 +87,13 @@ class LineDecoder final : public Decoder {
         ++ok_;
         out.emplace_back(DepthReading{Time(), *d});
       } else if (kind_ == DeviceKind::kA50) {
-        auto v = dvl::parse_a50_line(*line);
-        if (!v) { fail(v.error()); continue; }
-        if (!v->has_value()) continue;  // another report type
+        auto r = a50_.parse(*line);
+        if (!r) { fail(r.error()); continue; }
+        // Dead reckoning, water tracking, responses and duplicate reports are not events.
+        const auto* v = r->has_value() ? std::get_if<dvl::A50Velocity>(&**r) : nullptr;
+        if (!v || !v->bottom_tracked()) continue;
         ++ok_;
-        out.emplace_back(dvl::to_dvl_reading(**v, q_V_S_, Time()));
+        out.emplace_back(dvl::to_dvl_reading(v->velocity, q_V_S_, Time()));
       } else {
         auto v = dvl::parse_prti01(*line);
         if (!v) { fail(v.error()); continue; }
@@ -112,6 +114,7 @@ class LineDecoder final : public Decoder {
   DeviceKind kind_;
   Quat q_V_S_;
   LineFramer framer_;
+  dvl::A50Parser a50_;  // drops repeated reports (dvl_protocols.hpp)
   uint64_t ok_ = 0, bad_ = 0;
   std::string last_error_;
 };

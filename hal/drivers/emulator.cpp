@@ -80,7 +80,7 @@ MissionEmulator::MissionEmulator(std::vector<Event> events, EmulatorOptions opti
       const dvl::DvlVelocity v = dvl::velocity_from(*d, options_.q_V_dvl);
       const std::string line = options_.dvl_prti01
                                    ? dvl::encode_prti01(v, dvl_sample++, static_cast<uint32_t>(off.ns() / 10000000))
-                                   : dvl::encode_a50_velocity(v, 200.0);
+                                   : dvl::encode_a50_velocity(v, 200.0, off.ns() / 1000);  // json_v3.1, tov = stamp
       server_for(3).frames.push_back({off, Bytes(line.begin(), line.end())});
     } else if (const auto* z = std::get_if<DepthReading>(&e.payload)) {
       const std::string line = dvl::encode_depth_line(z->depth_m);

@@ -1,10 +1,10 @@
 #include "replay/outputs/pcd_header.hpp"
 
+#include "hal/file_head.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace orthosonar::outputs::pcd {
@@ -149,15 +149,9 @@ Result<Header> parse_header(std::string_view head, uint64_t file_size, const std
 }
 
 Result<Header> read_header(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path + ": cannot open"};
-  std::error_code ec;
-  const uint64_t size = std::filesystem::file_size(path, ec);
-  if (ec) return Error{path + ": cannot stat (" + ec.message() + ")"};
-  std::string head(static_cast<size_t>(std::min<uint64_t>(size, kMaxHeaderBytes)), '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
-  return parse_header(head, size, path);
+  auto head = hal::read_file_head(path, kMaxHeaderBytes);
+  if (!head) return head.error();
+  return parse_header(head->bytes, head->size, path);
 }
 
 }  // namespace orthosonar::outputs::pcd

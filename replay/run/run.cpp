@@ -272,7 +272,7 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
                    " were not in the cache the preparation pass filled"};
 
   r.counts = r.pipeline->counts();
-  r.truth = r.pipeline->truth();
+  r.truth = r.pipeline->take_truth();
   r.runtime = r.pipeline->runtime();
   std::vector<mapping::StampedPosition> dr, sl;
   for (const auto& k : r.pipeline->slam().keyframes()) {

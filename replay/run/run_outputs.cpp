@@ -74,17 +74,8 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   if (Status st = write_keyframe_table((out / "keyframes.csv").string(), slam); !st.ok()) return st;
   if (Status st = write_tum((out / "traj_dr.tum").string(), keyframe_poses_dr(slam)); !st.ok()) return st;
   if (Status st = write_tum((out / "traj_slam.tum").string(), keyframe_poses_slam(slam)); !st.ok()) return st;
-  if (!run.truth.empty()) {
-    std::vector<StampedPose> truth;
-    truth.reserve(run.truth.size());
-    for (const auto& t : run.truth) {
-      SE3 T = SE3::Identity();
-      T.linear() = t.q_W_V.normalized().toRotationMatrix();
-      T.translation() = t.p_W;
-      truth.push_back({t.stamp, T});
-    }
-    if (Status st = write_tum((out / "traj_truth.tum").string(), truth); !st.ok()) return st;
-  }
+  if (!run.truth.empty())
+    if (Status st = write_tum((out / "traj_truth.tum").string(), run.truth); !st.ok()) return st;
   if (run.mesh)
     if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
 

@@ -58,6 +58,21 @@ Status write_tum(const std::string& path, const std::vector<StampedPose>& poses)
   return write_text(path, tum_text(poses));
 }
 
+Status write_tum(const std::string& path, const std::vector<TruthPose>& truth) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) return Error{"cannot open '" + path + "' for writing"};
+  for (const auto& t : truth) {
+    // Through the rotation matrix, as every TUM file is written (same digits).
+    SE3 T = SE3::Identity();
+    T.linear() = t.q_W_V.normalized().toRotationMatrix();
+    T.translation() = t.p_W;
+    f << tum_line(t.stamp, T) << '\n';
+  }
+  f.close();
+  if (!f) return Error{"cannot write '" + path + "'"};
+  return Status::Ok();
+}
+
 std::vector<StampedPose> keyframe_poses_dr(const slam::KeyframeSlam& slam) {
   std::vector<StampedPose> out;
   for (const auto& k : slam.keyframes()) out.push_back({k.stamp, k.T_W_V_dr});

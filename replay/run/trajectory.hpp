@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/events.hpp"
 #include "core/geometry.hpp"
 #include "core/result.hpp"
 #include "core/slam/keyframe_slam.hpp"
@@ -21,6 +22,9 @@ struct StampedPose {
 std::string tum_line(Time stamp, const SE3& T_W_V);
 std::string tum_text(const std::vector<StampedPose>& poses);
 Status write_tum(const std::string& path, const std::vector<StampedPose>& poses);
+// Ground truth as a TUM file, written line by line (a long mission has ~110 poses per second:
+// no second copy of them in memory).
+Status write_tum(const std::string& path, const std::vector<TruthPose>& truth);
 
 // DR and SLAM keyframe trajectories.
 std::vector<StampedPose> keyframe_poses_dr(const slam::KeyframeSlam& slam);

@@ -1,0 +1,27 @@
+// libFuzzer harness: the Oculus TCP byte stream (framing, resync, every message type) and
+// the conversion of each decoded ping to a core SonarPing.
+#include <algorithm>
+#include <variant>
+
+#include "hal/drivers/oculus_stream.hpp"
+#include "hal/fuzz_support.hpp"
+
+using namespace orthosonar;
+using namespace orthosonar::hal::drivers;
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size == 0) return 0;
+  // The first byte sets how the stream is cut into reads (1..256 bytes), so frames also
+  // arrive split across push() calls as they do from a socket.
+  const size_t step = size_t{data[0]} + 1;
+  auto in = fuzz::bytes(data + 1, size - 1);
+  oculus::StreamParser parser;
+  fuzz::in_pieces(
+      in, step, [&](auto piece) { parser.push(piece); },
+      [&] {
+        while (auto m = parser.pop())
+          if (const auto* ping = std::get_if<oculus::PingResult>(&*m))
+            (void)oculus::to_sonar_ping(*ping, SonarMount::kHorizontal, kPartM1200d, Time{});
+      });
+  return 0;
+}

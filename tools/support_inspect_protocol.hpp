@@ -1,0 +1,17 @@
+#pragma once
+// `orthosonar inspect --protocol oculus|vn100|a50|prti|depth FILE [--json] [--csv OUT]`: a raw
+// device capture (serial or TCP byte stream) decoded message by message with the live
+// drivers' parsers (hal/drivers/protocol_decoder.hpp).
+#include <string>
+
+namespace orthosonar::cli {
+
+// Text: one line per message ("@offset type name=value ..."), then the counts. JSON: one
+// document with every message and the counts. csv_path (optional): one row per message, a
+// column per field name (union over the messages, first-seen order).
+// Returns 0 when every framed message decoded, 1 when some were bad or unsupported, 2 when the
+// file cannot be read, the protocol is unknown, or no message of the protocol decoded.
+int inspect_protocol_capture(const std::string& path, const std::string& protocol, bool json,
+                             const std::string& csv_path);
+
+}  // namespace orthosonar::cli
