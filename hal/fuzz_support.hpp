@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -18,6 +19,17 @@ namespace orthosonar::fuzz {
 inline std::span<const uint8_t> bytes(const uint8_t* data, size_t size) { return {data, size}; }
 inline std::string_view text(const uint8_t* data, size_t size) {
   return {reinterpret_cast<const char*>(data), size};
+}
+
+// A stream harness's input: the first byte sets the read size (1..256 bytes), so frames also
+// arrive split across push() calls as from a socket; the rest is the stream. Empty: nothing.
+struct Stream {
+  size_t step = 1;
+  std::span<const uint8_t> bytes;
+};
+inline std::optional<Stream> as_stream(const uint8_t* data, size_t size) {
+  if (size == 0) return std::nullopt;
+  return Stream{size_t{data[0]} + 1, {data + 1, size - 1}};
 }
 
 // Feeds `in` to push() in pieces of `step` bytes (a stream parser sees frames split across

@@ -5,9 +5,10 @@
 #include "hal/fuzz_support.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  if (size == 0) return 0;
-  const size_t step = size_t{data[0]} + 1;
-  auto in = orthosonar::fuzz::bytes(data + 1, size - 1);
+  const auto stream = orthosonar::fuzz::as_stream(data, size);
+  if (!stream) return 0;
+  const size_t step = stream->step;
+  const auto in = stream->bytes;
   orthosonar::hal::drivers::LineFramer framer(64);
   orthosonar::fuzz::in_pieces(
       in, step, [&](auto piece) { framer.push(piece); },

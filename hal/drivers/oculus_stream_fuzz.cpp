@@ -10,11 +10,10 @@ using namespace orthosonar;
 using namespace orthosonar::hal::drivers;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  if (size == 0) return 0;
-  // The first byte sets how the stream is cut into reads (1..256 bytes), so frames also
-  // arrive split across push() calls as they do from a socket.
-  const size_t step = size_t{data[0]} + 1;
-  auto in = fuzz::bytes(data + 1, size - 1);
+  const auto stream = fuzz::as_stream(data, size);
+  if (!stream) return 0;
+  const size_t step = stream->step;
+  const auto in = stream->bytes;
   oculus::StreamParser parser;
   fuzz::in_pieces(
       in, step, [&](auto piece) { parser.push(piece); },

@@ -7,9 +7,10 @@ using namespace orthosonar;
 using namespace orthosonar::hal::drivers;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  if (size == 0) return 0;
-  const size_t step = size_t{data[0]} + 1;
-  auto in = fuzz::bytes(data + 1, size - 1);
+  const auto stream = fuzz::as_stream(data, size);
+  if (!stream) return 0;
+  const size_t step = stream->step;
+  const auto in = stream->bytes;
   for (auto p : {Protocol::kOculus, Protocol::kVn100, Protocol::kA50, Protocol::kPrti, Protocol::kDepth}) {
     auto decoder = make_decoder(p);
     uint64_t end = 0;
