@@ -55,12 +55,18 @@ struct SceneInputs {
   std::function<Result<std::vector<Waypoint>>(const std::string&)> route_file;
 };
 
+// A seafloor heightfield of at most this many cells (2000 x 2000): the scene mesh is held in
+// memory and ray-traced; an extent from a typo must be an error, not an allocation.
+constexpr double kMaxSeafloorCells = 4.0e6;
+
 Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
   Scene s;
   s.name = root["name"] ? root["name"].as<std::string>() : in.default_name;
   s.seed = root["seed"] ? root["seed"].as<uint64_t>() : 0;
   if (root["vehicle_depth_m"]) s.vehicle_depth_m = root["vehicle_depth_m"].as<double>();
   if (root["seafloor_depth_m"]) s.seafloor_depth_m = root["seafloor_depth_m"].as<double>();
+  if (!std::isfinite(s.vehicle_depth_m) || !std::isfinite(s.seafloor_depth_m))
+    return Error{"vehicle_depth_m and seafloor_depth_m must be finite"};
   MeshBuilder b(s.mesh);
   uint32_t next_id = 1;
   if (const auto f = root["seafloor"]) {
@@ -68,9 +74,15 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
     const double y0 = f["y_min_m"].as<double>(), y1 = f["y_max_m"].as<double>();
     const double cell = f["cell_m"] ? f["cell_m"].as<double>() : 1.0;
     const double relief = f["relief_m"] ? f["relief_m"].as<double>() : 0.0;
+    for (double v : {x0, x1, y0, y1, cell, relief})
+      if (!std::isfinite(v)) return Error{"seafloor: x_min_m, x_max_m, y_min_m, y_max_m, cell_m and relief_m must be finite"};
     if (!(x1 > x0 && y1 > y0 && cell > 0)) return Error{"seafloor: empty extent or bad cell_m"};
-    b.heightfield(x0, y0, static_cast<int>(std::ceil((x1 - x0) / cell)), static_cast<int>(std::ceil((y1 - y0) / cell)),
-                  cell, seafloor_relief(s.seafloor_depth_m, relief, s.seed), {next_id++, SemanticClass::kSeafloor});
+    const double nx = std::ceil((x1 - x0) / cell), ny = std::ceil((y1 - y0) / cell);
+    if (!(nx * ny <= kMaxSeafloorCells))
+      return Error{"seafloor: " + std::to_string(nx) + " x " + std::to_string(ny) + " cells (extent / cell_m) exceed " +
+                   std::to_string(static_cast<int64_t>(kMaxSeafloorCells)) + "; use a larger cell_m"};
+    b.heightfield(x0, y0, static_cast<int>(nx), static_cast<int>(ny), cell,
+                  seafloor_relief(s.seafloor_depth_m, relief, s.seed), {next_id++, SemanticClass::kSeafloor});
   }
   int index = 0;
   for (const auto& o : root["objects"]) {
@@ -88,12 +100,17 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
       std::fill(mesh->semantic.begin(), mesh->semantic.end(), *c);
     }
     double scale = o["scale"] ? o["scale"].as<double>() : 1.0;
+    if (!(std::isfinite(scale) && scale > 0)) return Error{where + ": scale must be a finite number > 0"};
     SE3 T = SE3::Identity();
     if (const auto p = o["pose"]) {
       if (!p.IsSequence() || p.size() != 6) return Error{where + ": pose must be [x, y, z, roll_deg, pitch_deg, yaw_deg]"};
       constexpr double d = std::numbers::pi / 180.0;
-      T = se3_from_xyz_rpy(p[0].as<double>(), p[1].as<double>(), p[2].as<double>(), p[3].as<double>() * d,
-                           p[4].as<double>() * d, p[5].as<double>() * d);
+      double v[6];
+      for (int i = 0; i < 6; ++i) {
+        v[i] = p[i].as<double>();
+        if (!std::isfinite(v[i])) return Error{where + ": pose values must be finite"};
+      }
+      T = se3_from_xyz_rpy(v[0], v[1], v[2], v[3] * d, v[4] * d, v[5] * d);
     }
     if (scale != 1.0 || !T.matrix().isIdentity(0.0)) {
       for (auto& v : mesh->vertices) v = (T * (scale * v.cast<double>())).cast<float>();
@@ -104,7 +121,9 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
   if (const auto r = root["route"]) {
     for (const auto& w : r) {
       if (!w.IsSequence() || w.size() != 2) return Error{"route: each waypoint is [x, y]"};
-      s.route.push_back({w[0].as<double>(), w[1].as<double>()});
+      const Waypoint p{w[0].as<double>(), w[1].as<double>()};
+      if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m)) return Error{"route: waypoints must be finite"};
+      s.route.push_back(p);
     }
   } else if (root["route_file"]) {
     auto route = in.route_file(root["route_file"].as<std::string>());

@@ -122,4 +122,32 @@ TEST_CASE("scene files place meshes with poses and classes and report errors", "
   CHECK(!load_scene_file((dir / "none.yaml").string()).ok());
 }
 
+// Found by fuzz_scene_file (2026-12-01): a seafloor extent of 4.4e63 m reached a float-to-int
+// conversion out of range (undefined behaviour) and would have sized the heightfield from it.
+TEST_CASE("scene files with huge, non-finite or over-fine seafloors are errors naming the key", "[hal]") {
+  const auto dir = out_dir();
+  auto load_text = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return load_scene_file((dir / name).string());
+  };
+  const std::string route = "route: [[0, 0], [3, 0], [3, 2]]\n";
+  auto huge = load_text("huge.yaml", "name: fuzzseed\nseed: 3\nvehicle_depth_m: 2\nseafloor_depth_m: 6\n"
+                        "seafloor: {x_min_m: -4444444444444444444444444444444444444444444444444444444444444444, "
+                        "x_max_m: 5, y_min_m: -3, y_max_m: 4, cell_m: 1.0, relief_m: 0.2}\n" + route);
+  REQUIRE_FALSE(huge.ok());
+  CHECK(huge.error().message.find("seafloor") != std::string::npos);
+  CHECK(huge.error().message.find("cell_m") != std::string::npos);
+  auto fine = load_text("fine.yaml", "seafloor: {x_min_m: -100, x_max_m: 100, y_min_m: -100, y_max_m: 100, cell_m: 0.001}\n" + route);
+  REQUIRE_FALSE(fine.ok());
+  CHECK(fine.error().message.find("exceed") != std::string::npos);
+  auto nan = load_text("nan.yaml", "seafloor: {x_min_m: .nan, x_max_m: 5, y_min_m: -3, y_max_m: 4}\n" + route);
+  REQUIRE_FALSE(nan.ok());
+  CHECK(nan.error().message.find("finite") != std::string::npos);
+  auto inf_route = load_text("inf_route.yaml", "route: [[0, 0], [.inf, 0]]\n");
+  REQUIRE_FALSE(inf_route.ok());
+  CHECK(inf_route.error().message.find("route") != std::string::npos);
+  // A large site at a coarse cell is still a scene (200 x 200 cells).
+  CHECK(load_text("site.yaml", "seafloor: {x_min_m: 0, x_max_m: 1000, y_min_m: 0, y_max_m: 1000, cell_m: 5.0}\n" + route).ok());
+}
+
 }  // namespace orthosonar::sim
