@@ -169,6 +169,9 @@ Entry xy(Vec2& target) {
 Status apply(const YAML::Node& node, const Table& table, const std::string& prefix) {
   if (!node.IsMap()) return Error{"config: '" + (prefix.empty() ? std::string("<root>") : prefix) + "' must be a map"};
   for (const auto& kv : node) {
+    if (!kv.first.IsScalar())
+      return Error{"config: a key in '" + (prefix.empty() ? std::string("<root>") : prefix) +
+                   "' is not a plain name (a sequence, a map or '?' with no key)"};
     const std::string key = kv.first.as<std::string>();
     const std::string where = prefix.empty() ? key : prefix + "." + key;
     const auto it = table.find(key);
@@ -304,7 +307,13 @@ Status apply_config_yaml(const std::string& yaml_text, RunConfig& config) {
   }
   if (root.IsNull()) return {};
   RunConfig trial = config;
-  if (Status s = apply(root, root_table(trial), ""); !s.ok()) return s;
+  try {
+    if (Status s = apply(root, root_table(trial), ""); !s.ok()) return s;
+  } catch (const YAML::Exception& e) {
+    // Every reader checks its node's type first; this is the net under them, so a document
+    // no reader foresaw is an error, never an exception through the API.
+    return Error{std::string("config: ") + e.what()};
+  }
   config = trial;
   return {};
 }
