@@ -128,3 +128,16 @@ TEST_CASE("the vehicle follows the route at its speed and depth", "[hal]") {
 }
 
 }  // namespace orthosonar::sim
+
+// Found by fuzz_sim_config (2026-12-01): "? :" (a YAML key with no key) under a section threw
+// yaml-cpp's TypedBadConversion out of apply_sim_config_yaml.
+TEST_CASE("sim config keys that are not plain names are errors, not exceptions", "[hal]") {
+  for (const std::string text : {"sonar:\n  ? :\n", "? :\n", "[1]: 2\n", "nav: {? [a]: 1}\n"}) {
+    orthosonar::sim::SimConfig c;
+    orthosonar::Status s = orthosonar::Status::Ok();
+    REQUIRE_NOTHROW(s = orthosonar::sim::apply_sim_config_yaml(text, c));
+    INFO(text);
+    CHECK_FALSE(s.ok());
+  }
+}
+
