@@ -133,7 +133,7 @@ class Vn100Decoder final : public BinaryDecoder<vn100::StreamParser> {
     if (!m) return std::nullopt;
     DecodedMessage d;
     d.type = "binary";
-    d.size = vn100::encode_packet(*m).size();  // the packet's length, from its group/field masks
+    d.size = parser_.last_packet_bytes();
     d.offset = start_of(d.size);
     char groups[8];
     std::snprintf(groups, sizeof groups, "0x%02X", vn100::groups_of(*m));

@@ -466,6 +466,7 @@ std::optional<Message> StreamParser::pop() {
     }
     Message m = decode(packet);
     start_ += len.bytes;
+    last_packet_bytes_ = len.bytes;
     ++stats_.accepted;
     return m;
   }

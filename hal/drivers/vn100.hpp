@@ -205,6 +205,8 @@ class StreamParser {
   std::optional<Message> pop();
   const StreamStats& stats() const { return stats_; }
   size_t buffered() const { return buf_.size() - start_; }
+  // Length in bytes (sync to CRC) of the packet the last pop() returned.
+  size_t last_packet_bytes() const { return last_packet_bytes_; }
   // Shorthands kept for the decoders: accepted, bad CRC + unsupported, skipped bytes.
   uint64_t messages() const { return stats_.accepted; }
   uint64_t malformed() const { return stats_.bad_crc + stats_.unsupported; }
@@ -215,6 +217,7 @@ class StreamParser {
   void reject(std::string why);
   Bytes buf_;
   size_t start_ = 0;
+  size_t last_packet_bytes_ = 0;
   StreamStats stats_;
   std::string last_error_;
 };
