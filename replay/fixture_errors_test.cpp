@@ -66,7 +66,7 @@ std::string expect_error(const std::string& path, const std::vector<uint8_t>& by
 }  // namespace
 
 TEST_CASE("bad input wrong magic", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
   b[1] = 'X';
   CHECK(expect_error(dir + "/magic.mcap", b).find("bad magic at byte offset 0") != std::string::npos);
@@ -74,7 +74,7 @@ TEST_CASE("bad input wrong magic", "[unit]") {
 }
 
 TEST_CASE("bad input unsupported version", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
   b[5] = '1';
   CHECK(expect_error(dir + "/version.mcap", b).find("unsupported MCAP version '1' at byte offset 5") !=
@@ -82,7 +82,7 @@ TEST_CASE("bad input unsupported version", "[unit]") {
 }
 
 TEST_CASE("bad input unsupported opcode", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
   const size_t second = 8 + 9 + static_cast<size_t>(le64(b, 9));
   b[second] = 0x33;
@@ -91,14 +91,14 @@ TEST_CASE("bad input unsupported opcode", "[unit]") {
 }
 
 TEST_CASE("bad input data section CRC mismatch", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
   b[first_chunk(b) + 200] ^= 0x01;
   CHECK(expect_error(dir + "/datacrc.mcap", b).find("data section CRC mismatch") != std::string::npos);
 }
 
 TEST_CASE("bad input chunk CRC mismatch", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap", /*compress=*/false);
   const size_t chunk = first_chunk(b);
   b[chunk + 300] ^= 0x40;
@@ -107,7 +107,7 @@ TEST_CASE("bad input chunk CRC mismatch", "[unit]") {
 }
 
 TEST_CASE("bad input summary CRC mismatch", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
   b[data_end_offset(b) + 13 + 20] ^= 0x01;
   const auto e = expect_error(dir + "/sumcrc.mcap", b);
@@ -116,7 +116,7 @@ TEST_CASE("bad input summary CRC mismatch", "[unit]") {
 }
 
 TEST_CASE("bad input truncated chunk records", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap", /*compress=*/false);
   const size_t chunk = first_chunk(b);
   // Chunk body: start, end, uncompressed size, crc, compression "" (4), records length.
@@ -129,7 +129,7 @@ TEST_CASE("bad input truncated chunk records", "[unit]") {
 }
 
 TEST_CASE("a file cut inside a chunk is recovered up to the previous record", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
   const size_t chunk = first_chunk(b);
   b.resize(chunk + 100);
@@ -145,7 +145,7 @@ TEST_CASE("a file cut inside a chunk is recovered up to the previous record", "[
 }
 
 TEST_CASE("bad input unknown schema", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
   const std::string name = "orthosonar_msgs/Depth";
   auto it = std::search(b.begin(), b.end(), name.begin(), name.end());
@@ -156,7 +156,7 @@ TEST_CASE("bad input unknown schema", "[unit]") {
 }
 
 TEST_CASE("bad input out-of-order stamps within a channel", "[unit]") {
-  const std::string dir = test_dir("errors");
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   std::vector<Event> ev;
   ev.push_back({Time::from_s(1), Channel::kDepth, 0, DepthReading{Time::from_s(1), 1.0}});
   ev.push_back({Time::from_s(3), Channel::kDepth, 1, DepthReading{Time::from_s(3), 1.1}});

@@ -12,90 +12,19 @@
 #include <lz4frame.h>
 #include <zstd.h>
 
+#include "replay/mcap_chunks.hpp"
 #include "replay/mcap_format.hpp"
 #include "replay/ros1_codec.hpp"
 
 namespace orthosonar::replay::mcap {
+namespace detail {
 namespace {
 
-constexpr uint64_t kMaxChunkBytes = uint64_t{1} << 30;
-constexpr uint64_t kReleaseBytes = uint64_t{8} << 20;       // the scan releases what it read in steps of this
-constexpr uint64_t kMaxLooseRunBytes = uint64_t{8} << 20;   // a run of loose messages: at most this many bytes
-constexpr uint64_t kMaxLooseRunNs = 1'000'000'000;          // ... and this span of log time
 // An LZ4 sequence encodes at most 255 more output bytes per input byte, so a frame cannot
 // expand more than 255-fold (plus a little for tiny frames): a chunk claiming more is
 // rejected before its buffer is allocated (the frame's content size field is optional).
 constexpr uint64_t kLz4MaxRatio = 255;
 constexpr uint64_t kLz4Slack = 4096;
-
-std::string hex(uint64_t v) {
-  std::ostringstream s;
-  s << "0x" << std::hex << v;
-  return s.str();
-}
-
-Error at(const std::string& path, uint64_t offset, const std::string& what) {
-  return Error{path + ": " + what + " at byte offset " + std::to_string(offset)};
-}
-
-// Where a record is: a file offset, or an offset inside a chunk's uncompressed records
-// (chunk: the Chunk record's file offset, never 0 as the file starts with the magic).
-struct Loc {
-  uint64_t chunk = 0;
-  uint64_t offset = 0;
-};
-
-Error at(const std::string& path, Loc l, const std::string& what) {
-  if (l.chunk == 0) return at(path, l.offset, what);
-  return Error{path + ": " + what + " at offset " + std::to_string(l.offset) + " inside the chunk at byte offset " +
-               std::to_string(l.chunk)};
-}
-
-std::optional<Channel> channel_for_topic(const std::string& topic) {
-  for (int c = 0; c < kChannelCount; ++c)
-    if (topic == channel_topic(static_cast<Channel>(c))) return static_cast<Channel>(c);
-  return std::nullopt;
-}
-
-bool read_map(ByteReader& r, std::map<std::string, std::string>& out) {
-  const uint32_t len = r.u32();
-  const uint8_t* p = r.take(len);
-  if (p == nullptr) return false;
-  ByteReader m(p, len);
-  while (m.ok() && m.remaining() > 0) {
-    std::string k = m.str();
-    std::string v = m.str();
-    if (m.ok()) out[k] = v;
-  }
-  return m.ok();
-}
-
-struct Schema {
-  std::string name, encoding;
-};
-
-// Decodes one Message record body (after opcode and length).
-Status decode_message(const std::string& path, const Layout& layout, const uint8_t* p, uint64_t n, Loc loc,
-                      std::vector<LocatedEvent>& out) {
-  ByteReader r(p, n);
-  const uint16_t id = r.u16();
-  const uint32_t seq = r.u32();
-  const uint64_t log_time = r.u64();
-  r.u64();  // publish time
-  LocatedEvent le{{}, loc.chunk, loc.offset};
-  if (!r.ok()) return at(path, loc, "truncated message record");
-  const auto it = layout.channels.find(id);
-  if (it == layout.channels.end()) return at(path, loc, "message on undefined channel id " + std::to_string(id));
-  if (log_time > static_cast<uint64_t>(INT64_MAX)) return at(path, loc, "log time out of range");
-  auto payload = ros1::decode(it->second.channel, r.here(), r.remaining());
-  if (!payload) return at(path, loc, "cannot decode " + it->second.topic + " message: " + payload.error().message);
-  le.event.stamp = Time::from_ns(static_cast<int64_t>(log_time));
-  le.event.channel = it->second.channel;
-  le.event.sequence = seq;
-  le.event.payload = std::move(payload.value());
-  out.push_back(std::move(le));
-  return {};
-}
 
 // Decompresses an LZ4 frame (MCAP's "lz4") of exactly c.uncompressed_size bytes into `out`.
 Status lz4_frame(const std::string& path, const ChunkRef& c, const uint8_t* src, std::vector<uint8_t>& out) {
@@ -138,6 +67,171 @@ Status lz4_frame(const std::string& path, const ChunkRef& c, const uint8_t* src,
   return {};
 }
 
+}  // namespace
+
+std::string hex(uint64_t v) {
+  std::ostringstream s;
+  s << "0x" << std::hex << v;
+  return s.str();
+}
+
+Error at(const std::string& path, uint64_t offset, const std::string& what) {
+  return Error{path + ": " + what + " at byte offset " + std::to_string(offset)};
+}
+
+Error at(const std::string& path, Loc l, const std::string& what) {
+  if (l.chunk == 0) return at(path, l.offset, what);
+  return Error{path + ": " + what + " at offset " + std::to_string(l.offset) + " inside the chunk at byte offset " +
+               std::to_string(l.chunk)};
+}
+
+std::string cut_detail(const MappedFile& f, uint64_t pos, const std::string& why) {
+  return f.path() + ": " + why + " at byte offset " + std::to_string(pos) + " (file size " + std::to_string(f.size()) +
+         "); recovered the records before it";
+}
+
+Status check_magic(const MappedFile& f) {
+  const uint8_t* d = f.data();
+  if (f.size() < kMagicSize || std::memcmp(d, kMagic, 5) != 0 || std::memcmp(d + 6, kMagic + 6, 2) != 0)
+    return at(f.path(), 0, "not an MCAP file: bad magic");
+  if (d[5] != kMagic[5])
+    return at(f.path(), 5, std::string("unsupported MCAP version '") + static_cast<char>(d[5]) + "'");
+  return {};
+}
+
+uint64_t trailing_footer(const MappedFile& f) {
+  const uint8_t* d = f.data();
+  const size_t size = f.size();
+  if (size < 2 * kMagicSize + 2 * kRecordPrefix + 20 || std::memcmp(d + size - kMagicSize, kMagic, kMagicSize) != 0)
+    return 0;
+  const uint64_t fpos = size - kMagicSize - kRecordPrefix - 20;
+  ByteReader fr(d + fpos, kRecordPrefix + 20);
+  return fr.u8() == static_cast<uint8_t>(Op::kFooter) && fr.u64() == 20 ? fpos : 0;
+}
+
+Result<std::string> check_trailing_magic(const MappedFile& f, uint64_t end) {
+  if (f.size() - end < kMagicSize) return std::string("file ends inside the trailing magic");
+  if (std::memcmp(f.data() + end, kMagic, kMagicSize) != 0 || f.size() - end != kMagicSize)
+    return at(f.path(), end, "bad trailing magic");
+  return std::string();
+}
+
+Result<RecordHead> record_head(const MappedFile& f, uint64_t pos, uint64_t footer_pos) {
+  const size_t size = f.size();
+  RecordHead h;
+  if (size - pos < kRecordPrefix) {
+    h.cut = size - pos == 0 ? "file ends without a footer" : "file ends inside a record header";
+    return h;
+  }
+  const uint8_t* d = f.data();
+  h.op = d[pos];
+  ByteReader lr(d + pos + 1, 8);
+  h.len = lr.u64();
+  h.body = d + pos + kRecordPrefix;
+  const std::string& path = f.path();
+  if (h.op == 0 || (h.op > kMaxOpcode && h.op < 0x80)) return at(path, pos, "unsupported record opcode " + hex(h.op));
+  auto what = [&] { return "record (opcode " + hex(h.op) + ", " + std::to_string(h.len) + " bytes)"; };
+  if (h.len > size - pos - kRecordPrefix) {
+    // A recording cut short, unless the file ends with its footer: then the length lies.
+    if (footer_pos != 0) return at(path, pos, what() + " runs past the end of the file");
+    h.cut = what() + " runs past the end of the file";
+    return h;
+  }
+  if (footer_pos != 0 && h.op != static_cast<uint8_t>(Op::kFooter) && pos + kRecordPrefix + h.len > footer_pos)
+    return at(path, pos, what() + " runs into the footer");
+  if (pos == kMagicSize && h.op != static_cast<uint8_t>(Op::kHeader)) return at(path, pos, "first record is not a Header");
+  return h;
+}
+
+void Progress::advance(uint64_t end, bool in_data_section) {
+  if (in_data_section) {
+    data_crc_ = crc32(data_crc_, f_.data() + crc_end_, end - crc_end_);
+    crc_end_ = end;
+  }
+  if (end - released_ >= kReleaseBytes) {
+    f_.release(released_, end - released_);
+    released_ = end;
+  }
+}
+
+Status Progress::check_data_end(uint64_t pos, const uint8_t* body, uint64_t len) const {
+  ByteReader r(body, len);
+  const uint32_t stored = r.u32();
+  if (!r.ok()) return at(f_.path(), pos, "truncated Data End record");
+  // data_crc_ covers [0, pos): the caller advanced to the record before this one.
+  if (stored != 0 && stored != data_crc_)
+    return at(f_.path(), pos, "data section CRC mismatch (stored " + hex(stored) + ", computed " + hex(data_crc_) + ")");
+  return {};
+}
+
+bool read_map(ByteReader& r, std::map<std::string, std::string>& out) {
+  const uint32_t len = r.u32();
+  const uint8_t* p = r.take(len);
+  if (p == nullptr) return false;
+  ByteReader m(p, len);
+  while (m.ok() && m.remaining() > 0) {
+    std::string k = m.str();
+    std::string v = m.str();
+    if (m.ok()) out[k] = v;
+  }
+  return m.ok();
+}
+
+Status parse_schema(const std::string& path, Loc loc, const uint8_t* body, uint64_t len, RawSchema& out) {
+  ByteReader r(body, len);
+  out.id = r.u16();
+  out.name = r.str();
+  out.encoding = r.str();
+  const uint32_t dl = r.u32();
+  const uint8_t* data = r.take(dl);
+  if (!r.ok()) return at(path, loc, "truncated Schema record");
+  if (out.id == 0) return at(path, loc, "schema id 0 is reserved");
+  out.data.assign(reinterpret_cast<const char*>(data), dl);
+  return {};
+}
+
+Status parse_channel(const std::string& path, Loc loc, const uint8_t* body, uint64_t len, RawChannel& out) {
+  ByteReader r(body, len);
+  out.id = r.u16();
+  out.schema_id = r.u16();
+  out.topic = r.str();
+  out.message_encoding = r.str();
+  out.metadata.clear();
+  if (!read_map(r, out.metadata) || !r.ok()) return at(path, loc, "malformed Channel record");
+  return {};
+}
+
+Status parse_message(const std::string& path, Loc loc, const uint8_t* body, uint64_t len, RawMessage& out) {
+  ByteReader r(body, len);
+  out.channel_id = r.u16();
+  out.sequence = r.u32();
+  out.log_time_ns = r.u64();
+  out.publish_time_ns = r.u64();
+  if (!r.ok()) return at(path, loc, "truncated message record");
+  out.data = r.here();
+  out.size = r.remaining();
+  return {};
+}
+
+Status parse_chunk(const std::string& path, uint64_t pos, const uint8_t* body, uint64_t len, ChunkRef& c) {
+  ByteReader r(body, len);
+  c.offset = pos;
+  c.start_ns = r.u64();
+  c.end_ns = r.u64();
+  c.uncompressed_size = r.u64();
+  c.uncompressed_crc = r.u32();
+  c.compression = r.str();
+  c.compressed_size = r.u64();
+  c.records_offset = pos + kRecordPrefix + r.pos();
+  if (!r.ok() || c.compressed_size != r.remaining()) return at(path, pos, "malformed Chunk record");
+  if (c.compression != "" && c.compression != "zstd" && c.compression != "lz4")
+    return at(path, pos, "unsupported chunk compression '" + c.compression + "'");
+  if (c.uncompressed_size > kMaxChunkBytes)
+    return at(path, pos, "chunk claims " + std::to_string(c.uncompressed_size) + " uncompressed bytes");
+  if (c.start_ns > c.end_ns) return at(path, pos, "chunk start time after its end time");
+  return {};
+}
+
 // The records of a chunk (or a run of loose messages): decompressed into `scratch` when
 // compressed, and CRC-checked.
 Result<const uint8_t*> chunk_records(const MappedFile& file, const ChunkRef& c, std::vector<uint8_t>& scratch) {
@@ -168,26 +262,41 @@ Result<const uint8_t*> chunk_records(const MappedFile& file, const ChunkRef& c, 
   return records;
 }
 
-// One record inside a chunk's records: opcode, body and where it is.
-struct InnerRecord {
-  uint8_t op = 0;
-  const uint8_t* body = nullptr;
-  uint64_t len = 0;
+}  // namespace detail
+
+namespace {
+
+using namespace detail;
+
+constexpr uint64_t kMaxLooseRunBytes = uint64_t{8} << 20;   // a run of loose messages: at most this many bytes
+constexpr uint64_t kMaxLooseRunNs = 1'000'000'000;          // ... and this span of log time
+
+struct Schema {
+  std::string name, encoding;
 };
 
-// Splits a chunk's records; calls f(record, pos) for each, stopping at the first error.
-template <class F>
-Status for_each_record(const std::string& path, const ChunkRef& c, const uint8_t* records, F&& f) {
-  uint64_t pos = 0;
-  while (pos < c.uncompressed_size) {
-    ByteReader r(records + pos, c.uncompressed_size - pos);
-    const uint8_t op = r.u8();
-    const uint64_t len = r.u64();
-    if (!r.ok() || len > r.remaining())
-      return at(path, Loc{c.offset, pos}, "record runs past the end of the chunk");
-    if (auto s = f(InnerRecord{op, r.here(), len}, pos); !s) return s;
-    pos += kRecordPrefix + len;
-  }
+std::optional<Channel> channel_for_topic(const std::string& topic) {
+  for (int c = 0; c < kChannelCount; ++c)
+    if (topic == channel_topic(static_cast<Channel>(c))) return static_cast<Channel>(c);
+  return std::nullopt;
+}
+
+// Decodes one Message record body (after opcode and length).
+Status decode_message(const std::string& path, const Layout& layout, const uint8_t* p, uint64_t n, Loc loc,
+                      std::vector<LocatedEvent>& out) {
+  RawMessage m;
+  if (auto s = parse_message(path, loc, p, n, m); !s) return s;
+  const auto it = layout.channels.find(m.channel_id);
+  if (it == layout.channels.end()) return at(path, loc, "message on undefined channel id " + std::to_string(m.channel_id));
+  if (m.log_time_ns > static_cast<uint64_t>(INT64_MAX)) return at(path, loc, "log time out of range");
+  auto payload = ros1::decode(it->second.channel, m.data, m.size);
+  if (!payload) return at(path, loc, "cannot decode " + it->second.topic + " message: " + payload.error().message);
+  LocatedEvent le{{}, loc.chunk, loc.offset};
+  le.event.stamp = Time::from_ns(static_cast<int64_t>(m.log_time_ns));
+  le.event.channel = it->second.channel;
+  le.event.sequence = m.sequence;
+  le.event.payload = std::move(payload.value());
+  out.push_back(std::move(le));
   return {};
 }
 
@@ -199,24 +308,16 @@ class Scanner {
     const uint8_t* d = f_.data();
     const size_t size = f_.size();
     L_.recovery.bytes_total = size;
-    if (size < kMagicSize || std::memcmp(d, kMagic, 5) != 0 || std::memcmp(d + 6, kMagic + 6, 2) != 0)
-      return at(path_, 0, "not an MCAP file: bad magic");
-    if (d[5] != kMagic[5])
-      return at(path_, 5, std::string("unsupported MCAP version '") + static_cast<char>(d[5]) + "'");
+    if (auto s = check_magic(f_); !s) return s.error();
     // A complete file's summary is checked (CRC) and read before the data section: when it
     // lists every channel, chunks are only located now and read when replayed; otherwise
     // the data section is read by a linear scan.
-    if (size >= 2 * kMagicSize + 2 * kRecordPrefix + 20 &&
-        std::memcmp(d + size - kMagicSize, kMagic, kMagicSize) == 0) {
-      const uint64_t fpos = size - kMagicSize - kRecordPrefix - 20;
-      ByteReader fr(d + fpos, kRecordPrefix + 20);
-      if (fr.u8() == static_cast<uint8_t>(Op::kFooter) && fr.u64() == 20) {
-        if (auto s = footer_record(fpos, d + fpos + kRecordPrefix, 20); !s) return s.error();
-        footer_pos_ = fpos;
-        if (summary_start_ != 0) {
-          L_.read.summary_present = true;
-          if (auto s = read_summary(summary_start_, fpos); !s) return s.error();
-        }
+    if (const uint64_t fpos = trailing_footer(f_); fpos != 0) {
+      if (auto s = footer_record(fpos, d + fpos + kRecordPrefix, 20); !s) return s.error();
+      footer_pos_ = fpos;
+      if (summary_start_ != 0) {
+        L_.read.summary_present = true;
+        if (auto s = read_summary(summary_start_, fpos); !s) return s.error();
       }
     }
     linear_ = !summary_used_;
@@ -224,36 +325,17 @@ class Scanner {
     bool footer = false, data_end = false;
     uint64_t good_end = pos;
     while (!footer) {
-      if (size - pos < kRecordPrefix) {
-        truncated(pos, size - pos == 0 ? "file ends without a footer"
-                                       : "file ends inside a record header");
+      auto head = record_head(f_, pos, footer_pos_);
+      if (!head) return head.error();
+      if (!head->cut.empty()) {
+        truncated(pos, head->cut);
         break;
       }
-      const uint8_t op = d[pos];
-      ByteReader lr(d + pos + 1, 8);
-      const uint64_t len = lr.u64();
-      if (op == 0 || (op > kMaxOpcode && op < 0x80))
-        return at(path_, pos, "unsupported record opcode " + hex(op));
-      auto what = [&] { return "record (opcode " + hex(op) + ", " + std::to_string(len) + " bytes)"; };
-      if (len > size - pos - kRecordPrefix) {
-        // A recording cut short, unless the file ends with its footer: then the length lies.
-        if (footer_pos_ != 0) return at(path_, pos, what() + " runs past the end of the file");
-        truncated(pos, what() + " runs past the end of the file");
-        break;
-      }
-      if (footer_pos_ != 0 && op != static_cast<uint8_t>(Op::kFooter) && pos + kRecordPrefix + len > footer_pos_)
-        return at(path_, pos, what() + " runs into the footer");
-      if (pos == kMagicSize && op != static_cast<uint8_t>(Op::kHeader))
-        return at(path_, pos, "first record is not a Header");
-      const uint8_t* body = d + pos + kRecordPrefix;
+      const uint8_t op = head->op;
+      const uint64_t len = head->len;
+      const uint8_t* body = head->body;
       if (op == static_cast<uint8_t>(Op::kDataEnd)) {
-        ByteReader r(body, len);
-        const uint32_t stored = r.u32();
-        if (!r.ok()) return at(path_, pos, "truncated Data End record");
-        const uint32_t actual = data_crc_;  // of [0, pos): advance() kept it up to date
-        if (stored != 0 && stored != actual)
-          return at(path_, pos, "data section CRC mismatch (stored " + hex(stored) + ", computed " +
-                                    hex(actual) + ")");
+        if (auto s = progress_.check_data_end(pos, body, len); !s) return s.error();
         data_end = true;
       } else if (op == static_cast<uint8_t>(Op::kFooter)) {
         if (auto s = footer_record(pos, body, len); !s) return s.error();
@@ -263,7 +345,7 @@ class Scanner {
       }
       pos += kRecordPrefix + len;
       good_end = pos;
-      advance(pos, !data_end);
+      progress_.advance(pos, !data_end);
     }
     if (!footer && !linear_) {
       // Defensive (a file ending with its footer reaches it or fails above): what was read
@@ -289,24 +371,9 @@ class Scanner {
   }
 
  private:
-  // Bytes up to `end` are scanned: adds them to the data section CRC (while in the data
-  // section) and releases them from memory every few MiB, so a long recording is read
-  // once, front to back, and never resident as a whole.
-  void advance(uint64_t end, bool in_data_section) {
-    if (in_data_section) {
-      data_crc_ = crc32(data_crc_, f_.data() + crc_end_, end - crc_end_);
-      crc_end_ = end;
-    }
-    if (end - released_ >= kReleaseBytes) {
-      f_.release(released_, end - released_);
-      released_ = end;
-    }
-  }
-
   void truncated(uint64_t pos, const std::string& why) {
     L_.recovery.complete = false;
-    L_.recovery.detail = path_ + ": " + why + " at byte offset " + std::to_string(pos) +
-                         " (file size " + std::to_string(f_.size()) + "); recovered the records before it";
+    L_.recovery.detail = cut_detail(f_, pos, why);
   }
 
   Status footer_record(uint64_t pos, const uint8_t* body, uint64_t len) {
@@ -316,12 +383,12 @@ class Scanner {
     const uint32_t stored = r.u32();
     if (!r.ok()) return at(path_, pos, "truncated Footer record");
     const uint64_t end = pos + kRecordPrefix + len;
-    if (f_.size() - end < kMagicSize) {
-      truncated(end, "file ends inside the trailing magic");
+    auto cut = check_trailing_magic(f_, end);
+    if (!cut) return cut.error();
+    if (!cut->empty()) {
+      truncated(end, *cut);
       return {};
     }
-    if (std::memcmp(f_.data() + end, kMagic, kMagicSize) != 0 || f_.size() - end != kMagicSize)
-      return at(path_, end, "bad trailing magic");
     if (summary_start != 0 && (summary_start > pos || summary_start < kMagicSize))
       return at(path_, pos, "footer summary_start " + std::to_string(summary_start) + " outside the file's records");
     if (stored != 0 && summary_start != 0) {
@@ -375,28 +442,15 @@ class Scanner {
         L_.profile = r.str();
         L_.library = r.str();
         break;
-      case Op::kSchema: return schema(Loc{0, pos}, r);
-      case Op::kChannel: return channel(Loc{0, pos}, r);
+      case Op::kSchema: return schema(Loc{0, pos}, body, len);
+      case Op::kChannel: return channel(Loc{0, pos}, body, len);
       case Op::kMessage:
         if (in_summary) return at(path_, pos, "Message record in the summary section");
         return loose_message(pos, body, len);
       case Op::kChunk: {
         if (in_summary) return at(path_, pos, "Chunk record in the summary section");
         ChunkRef c;
-        c.offset = pos;
-        c.start_ns = r.u64();
-        c.end_ns = r.u64();
-        c.uncompressed_size = r.u64();
-        c.uncompressed_crc = r.u32();
-        c.compression = r.str();
-        c.compressed_size = r.u64();
-        c.records_offset = pos + kRecordPrefix + r.pos();
-        if (!r.ok() || c.compressed_size != r.remaining()) return at(path_, pos, "malformed Chunk record");
-        if (c.compression != "" && c.compression != "zstd" && c.compression != "lz4")
-          return at(path_, pos, "unsupported chunk compression '" + c.compression + "'");
-        if (c.uncompressed_size > kMaxChunkBytes)
-          return at(path_, pos, "chunk claims " + std::to_string(c.uncompressed_size) + " uncompressed bytes");
-        if (c.start_ns > c.end_ns) return at(path_, pos, "chunk start time after its end time");
+        if (auto s = parse_chunk(path_, pos, body, len, c); !s) return s;
         // A linear scan reads the chunk now, in file order: the Schema and Channel records
         // inside it define channels for the records after it.
         if (linear_)
@@ -464,28 +518,23 @@ class Scanner {
     return {};
   }
 
-  Status schema(Loc loc, ByteReader& r) {
-    const uint16_t id = r.u16();
-    Schema s{r.str(), r.str()};
-    const uint32_t dl = r.u32();
-    r.take(dl);
-    if (!r.ok()) return at(path_, loc, "truncated Schema record");
-    if (id == 0) return at(path_, loc, "schema id 0 is reserved");
-    schemas_[id] = s;
+  Status schema(Loc loc, const uint8_t* body, uint64_t len) {
+    RawSchema s;
+    if (auto st = parse_schema(path_, loc, body, len, s); !st) return st;
+    schemas_[s.id] = Schema{std::move(s.name), std::move(s.encoding)};
     return {};
   }
 
-  Status channel(Loc loc, ByteReader& r) {
+  Status channel(Loc loc, const uint8_t* body, uint64_t len) {
+    RawChannel raw;
+    if (auto st = parse_channel(path_, loc, body, len, raw); !st) return st;
     ChannelRef c;
-    c.id = r.u16();
-    const uint16_t schema_id = r.u16();
-    c.topic = r.str();
-    const std::string encoding = r.str();
-    std::map<std::string, std::string> meta;
-    if (!read_map(r, meta) || !r.ok()) return at(path_, loc, "malformed Channel record");
-    const auto s = schemas_.find(schema_id);
+    c.id = raw.id;
+    c.topic = std::move(raw.topic);
+    const std::string& encoding = raw.message_encoding;
+    const auto s = schemas_.find(raw.schema_id);
     if (s == schemas_.end())
-      return at(path_, loc, "channel " + c.topic + " uses undefined schema id " + std::to_string(schema_id));
+      return at(path_, loc, "channel " + c.topic + " uses undefined schema id " + std::to_string(raw.schema_id));
     c.schema_name = s->second.name;
     const auto ch = channel_for_topic(c.topic);
     if (!ch) return at(path_, loc, "unknown topic '" + c.topic + "'");
@@ -509,19 +558,15 @@ class Scanner {
     if (!records) return records.error();
     return for_each_record(path_, c, *records, [&](const InnerRecord& rec, uint64_t pos) -> Status {
       const Loc loc{c.offset, pos};
-      ByteReader r(rec.body, rec.len);
       switch (static_cast<Op>(rec.op)) {
-        case Op::kSchema: return schema(loc, r);
-        case Op::kChannel: return channel(loc, r);
+        case Op::kSchema: return schema(loc, rec.body, rec.len);
+        case Op::kChannel: return channel(loc, rec.body, rec.len);
         case Op::kMessage: {
-          const uint16_t id = r.u16();
-          r.u32();
-          const uint64_t log_time = r.u64();
-          r.u64();
-          if (!r.ok()) return at(path_, loc, "truncated message record");
-          if (L_.channels.find(id) == L_.channels.end())
-            return at(path_, loc, "message on undefined channel id " + std::to_string(id));
-          if (log_time < c.start_ns || log_time > c.end_ns)
+          RawMessage m;
+          if (auto s = parse_message(path_, loc, rec.body, rec.len, m); !s) return s;
+          if (L_.channels.find(m.channel_id) == L_.channels.end())
+            return at(path_, loc, "message on undefined channel id " + std::to_string(m.channel_id));
+          if (m.log_time_ns < c.start_ns || m.log_time_ns > c.end_ns)
             return at(path_, loc, "message log time outside its chunk's time range");
           ++chunk_messages_;
           return {};
@@ -534,14 +579,11 @@ class Scanner {
   // A Message record outside chunks: checks its header and channel now (decoding waits
   // for read_chunk) and adds it to the current run of loose messages, or starts a run.
   Status loose_message(uint64_t pos, const uint8_t* body, uint64_t len) {
-    ByteReader r(body, len);
-    const uint16_t id = r.u16();
-    r.u32();
-    const uint64_t log_time = r.u64();
-    r.u64();
-    if (!r.ok()) return at(path_, pos, "truncated message record");
-    if (L_.channels.find(id) == L_.channels.end())
-      return at(path_, pos, "message on undefined channel id " + std::to_string(id));
+    RawMessage m;
+    if (auto s = parse_message(path_, Loc{0, pos}, body, len, m); !s) return s;
+    if (L_.channels.find(m.channel_id) == L_.channels.end())
+      return at(path_, pos, "message on undefined channel id " + std::to_string(m.channel_id));
+    const uint64_t log_time = m.log_time_ns;
     if (log_time > static_cast<uint64_t>(INT64_MAX)) return at(path_, pos, "log time out of range");
     const uint64_t end = pos + kRecordPrefix + len;
     ChunkRef* run = L_.loose_runs.empty() ? nullptr : &L_.loose_runs.back();
@@ -576,9 +618,7 @@ class Scanner {
   bool linear_ = false;          // chunks are read (harvest) as the scan meets them
   uint64_t chunk_messages_ = 0;  // messages inside chunks, counted by harvest
   std::vector<uint8_t> scratch_;
-  uint32_t data_crc_ = 0;
-  uint64_t crc_end_ = 0;   // data_crc_ covers [0, crc_end_)
-  uint64_t released_ = 0;  // [0, released_) released
+  Progress progress_{f_};
 };
 
 }  // namespace

@@ -113,7 +113,10 @@ struct Simulator::Impl {
       }
       case Channel::kDepth: {
         Rng rng(derive_seed(cfg.seed, kDepthStream, i));
-        return DepthReading{t, -trajectory->at(t).p_W.z() + rng.normal(0, cfg.nav.depth_sigma_m)};
+        // float32 metres, as the depth sensor's driver publishes them (bar30_depth/Depth), so
+        // a mission exported in the authors' types imports back to the same readings.
+        const double depth = -trajectory->at(t).p_W.z() + rng.normal(0, cfg.nav.depth_sigma_m);
+        return DepthReading{t, static_cast<double>(static_cast<float>(depth))};
       }
       case Channel::kTruthPose: break;
     }

@@ -4,7 +4,7 @@
 # Needs $src (this folder) and $npm_dir; exits 77 (ctest SKIP_RETURN_CODE) only when npm
 # cannot install the packages.
 mkdir -p "$npm_dir" || exit 1
-cp "$src/package.json" "$src/check.mjs" "$src/rewrite.mjs" "$npm_dir/" || exit 1
+cp "$src/package.json" "$src"/*.mjs "$npm_dir/" || exit 1
 stamp="$npm_dir/node_modules/.orthosonar-installed"
 if [ ! -f "$stamp" ] || ! cmp -s "$npm_dir/package.json" "$stamp"; then
   if ! command -v npm >/dev/null 2>&1; then

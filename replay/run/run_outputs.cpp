@@ -6,6 +6,7 @@
 #include "hal/sim/mesh_io.hpp"
 #include "orthosonar/version.hpp"
 #include "replay/outputs/map_writers.hpp"
+#include "replay/run/results_mcap.hpp"
 #include "replay/run/run.hpp"
 #include "replay/run/trajectory.hpp"
 
@@ -78,6 +79,7 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
     if (Status st = write_tum((out / "traj_truth.tum").string(), run.truth); !st.ok()) return st;
   if (run.mesh)
     if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
+  if (Status st = write_results_mcap(run, (out / kResultsMcapFile).string()); !st.ok()) return st;
 
   nlohmann::json summary;
   nlohmann::json fixture = nlohmann::json::object();

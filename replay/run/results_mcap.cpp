@@ -1,0 +1,442 @@
+// results.mcap (results_mcap.hpp): Foxglove JSON messages through the generic MCAP writer.
+#include "replay/run/results_mcap.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "orthosonar/version.hpp"
+#include "replay/mcap_generic.hpp"
+#include "replay/run/run.hpp"
+
+namespace orthosonar::run {
+namespace {
+
+// The official Foxglove JSON schemas (foxglove/schemas, published as @foxglove/schemas
+// 2.1.0 jsonschema), compacted: the "description" and "$comment" texts are dropped;
+// everything that constrains a message (titles, types, properties, required lists, enum
+// consts, bounds, contentEncoding) is kept as published. Foxglove turns a PointCloud's
+// `data` into bytes because its schema says contentEncoding base64.
+// clang-format off
+constexpr const char* kPointCloudSchema =
+    R"({"title":"foxglove.PointCloud","type":"object","properties":{"timestamp":{"type":"object",)"
+    R"("title":"time","properties":{"sec":{"type":"integer","minimum":0},"nsec":{"type":"integer",)"
+    R"("minimum":0,"maximum":999999999}}},"frame_id":{"type":"string"},"pose":{"title":"foxglove.Pose",)"
+    R"("type":"object","properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("point_stride":{"type":"integer","minimum":0},"fields":{"type":"array",)"
+    R"("items":{"title":"foxglove.PackedElementField","type":"object",)"
+    R"("properties":{"name":{"type":"string"},"offset":{"type":"integer","minimum":0},)"
+    R"("type":{"title":"foxglove.NumericType","oneOf":[{"title":"UNKNOWN","const":0},{"title":"UINT8",)"
+    R"("const":1},{"title":"INT8","const":2},{"title":"UINT16","const":3},{"title":"INT16","const":4},)"
+    R"({"title":"UINT32","const":5},{"title":"INT32","const":6},{"title":"FLOAT32","const":7},)"
+    R"({"title":"FLOAT64","const":8}]}},"required":["name","offset","type"]}},"data":{"type":"string",)"
+    R"("contentEncoding":"base64"}},"required":["timestamp","frame_id","pose","point_stride","fields",)"
+    R"("data"]})";
+constexpr const char* kPosesInFrameSchema =
+    R"({"title":"foxglove.PosesInFrame","type":"object","properties":{"timestamp":{"type":"object",)"
+    R"("title":"time","properties":{"sec":{"type":"integer","minimum":0},"nsec":{"type":"integer",)"
+    R"("minimum":0,"maximum":999999999}}},"frame_id":{"type":"string"},"poses":{"type":"array",)"
+    R"("items":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]}}},)"
+    R"("required":["timestamp","frame_id","poses"]})";
+constexpr const char* kFrameTransformSchema =
+    R"({"title":"foxglove.FrameTransform","type":"object","properties":{"timestamp":{"type":"object",)"
+    R"("title":"time","properties":{"sec":{"type":"integer","minimum":0},"nsec":{"type":"integer",)"
+    R"("minimum":0,"maximum":999999999}}},"parent_frame_id":{"type":"string"},)"
+    R"("child_frame_id":{"type":"string"},"translation":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"rotation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["timestamp","parent_frame_id",)"
+    R"("child_frame_id","translation","rotation"]})";
+constexpr const char* kSceneUpdateSchema =
+    R"({"title":"foxglove.SceneUpdate","type":"object","properties":{"deletions":{"type":"array",)"
+    R"("items":{"title":"foxglove.SceneEntityDeletion","type":"object",)"
+    R"("properties":{"timestamp":{"type":"object","title":"time","properties":{"sec":{"type":"integer",)"
+    R"("minimum":0},"nsec":{"type":"integer","minimum":0,"maximum":999999999}}},)"
+    R"("type":{"title":"foxglove.SceneEntityDeletionType","oneOf":[{"title":"MATCHING_ID","const":0},)"
+    R"({"title":"ALL","const":1}]},"id":{"type":"string"}},"required":["timestamp","type","id"]}},)"
+    R"("entities":{"type":"array","items":{"title":"foxglove.SceneEntity","type":"object",)"
+    R"("properties":{"timestamp":{"type":"object","title":"time","properties":{"sec":{"type":"integer",)"
+    R"("minimum":0},"nsec":{"type":"integer","minimum":0,"maximum":999999999}}},)"
+    R"("frame_id":{"type":"string"},"id":{"type":"string"},"lifetime":{"type":"object","title":"duration",)"
+    R"("properties":{"sec":{"type":"integer"},"nsec":{"type":"integer","minimum":0,"maximum":999999999}}},)"
+    R"("frame_locked":{"type":"boolean"},"metadata":{"type":"array",)"
+    R"("items":{"title":"foxglove.KeyValuePair","type":"object","properties":{"key":{"type":"string"},)"
+    R"("value":{"type":"string"}},"required":["key","value"]}},"arrows":{"type":"array",)"
+    R"("items":{"title":"foxglove.ArrowPrimitive","type":"object",)"
+    R"("properties":{"pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("shaft_length":{"type":"number"},"shaft_diameter":{"type":"number"},"head_length":{"type":"number"},)"
+    R"("head_diameter":{"type":"number"},"color":{"title":"foxglove.Color","type":"object",)"
+    R"("properties":{"r":{"type":"number"},"g":{"type":"number"},"b":{"type":"number"},)"
+    R"("a":{"type":"number"}},"required":["r","g","b","a"]}},"required":["pose","shaft_length",)"
+    R"("shaft_diameter","head_length","head_diameter","color"]}},"cubes":{"type":"array",)"
+    R"("items":{"title":"foxglove.CubePrimitive","type":"object",)"
+    R"("properties":{"pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("size":{"title":"foxglove.Vector3","type":"object","properties":{"x":{"type":"number"},)"
+    R"("y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]},)"
+    R"("color":{"title":"foxglove.Color","type":"object","properties":{"r":{"type":"number"},)"
+    R"("g":{"type":"number"},"b":{"type":"number"},"a":{"type":"number"}},"required":["r","g","b","a"]}},)"
+    R"("required":["pose","size","color"]}},"spheres":{"type":"array",)"
+    R"("items":{"title":"foxglove.SpherePrimitive","type":"object",)"
+    R"("properties":{"pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("size":{"title":"foxglove.Vector3","type":"object","properties":{"x":{"type":"number"},)"
+    R"("y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]},)"
+    R"("color":{"title":"foxglove.Color","type":"object","properties":{"r":{"type":"number"},)"
+    R"("g":{"type":"number"},"b":{"type":"number"},"a":{"type":"number"}},"required":["r","g","b","a"]}},)"
+    R"("required":["pose","size","color"]}},"cylinders":{"type":"array",)"
+    R"("items":{"title":"foxglove.CylinderPrimitive","type":"object",)"
+    R"("properties":{"pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("size":{"title":"foxglove.Vector3","type":"object","properties":{"x":{"type":"number"},)"
+    R"("y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]},)"
+    R"("bottom_scale":{"type":"number"},"top_scale":{"type":"number"},"color":{"title":"foxglove.Color",)"
+    R"("type":"object","properties":{"r":{"type":"number"},"g":{"type":"number"},"b":{"type":"number"},)"
+    R"("a":{"type":"number"}},"required":["r","g","b","a"]}},"required":["pose","size","bottom_scale",)"
+    R"("top_scale","color"]}},"lines":{"type":"array","items":{"title":"foxglove.LinePrimitive",)"
+    R"("type":"object","properties":{"type":{"title":"foxglove.LineType","oneOf":[{"title":"LINE_STRIP",)"
+    R"("const":0},{"title":"LINE_LOOP","const":1},{"title":"LINE_LIST","const":2}]},)"
+    R"("pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("thickness":{"type":"number"},"scale_invariant":{"type":"boolean"},"points":{"type":"array",)"
+    R"("items":{"title":"foxglove.Point3","type":"object","properties":{"x":{"type":"number"},)"
+    R"("y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]}},)"
+    R"("color":{"title":"foxglove.Color","type":"object","properties":{"r":{"type":"number"},)"
+    R"("g":{"type":"number"},"b":{"type":"number"},"a":{"type":"number"}},"required":["r","g","b","a"]},)"
+    R"("colors":{"type":"array","items":{"title":"foxglove.Color","type":"object",)"
+    R"("properties":{"r":{"type":"number"},"g":{"type":"number"},"b":{"type":"number"},)"
+    R"("a":{"type":"number"}},"required":["r","g","b","a"]}},"indices":{"type":"array",)"
+    R"("items":{"type":"integer","minimum":0}}},"required":["type","pose","thickness","scale_invariant",)"
+    R"("points","color","colors","indices"]}},"triangles":{"type":"array",)"
+    R"("items":{"title":"foxglove.TriangleListPrimitive","type":"object",)"
+    R"("properties":{"pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("points":{"type":"array","items":{"title":"foxglove.Point3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]}},"color":{"title":"foxglove.Color","type":"object","properties":{"r":{"type":"number"},)"
+    R"("g":{"type":"number"},"b":{"type":"number"},"a":{"type":"number"}},"required":["r","g","b","a"]},)"
+    R"("colors":{"type":"array","items":{"title":"foxglove.Color","type":"object",)"
+    R"("properties":{"r":{"type":"number"},"g":{"type":"number"},"b":{"type":"number"},)"
+    R"("a":{"type":"number"}},"required":["r","g","b","a"]}},"indices":{"type":"array",)"
+    R"("items":{"type":"integer","minimum":0}}},"required":["pose","points","color","colors","indices"]}},)"
+    R"("texts":{"type":"array","items":{"title":"foxglove.TextPrimitive","type":"object",)"
+    R"("properties":{"pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("billboard":{"type":"boolean"},"font_size":{"type":"number"},"scale_invariant":{"type":"boolean"},)"
+    R"("color":{"title":"foxglove.Color","type":"object","properties":{"r":{"type":"number"},)"
+    R"("g":{"type":"number"},"b":{"type":"number"},"a":{"type":"number"}},"required":["r","g","b","a"]},)"
+    R"("text":{"type":"string"}},"required":["pose","billboard","font_size","scale_invariant","color",)"
+    R"("text"]}},"models":{"type":"array","items":{"title":"foxglove.ModelPrimitive","type":"object",)"
+    R"("properties":{"pose":{"title":"foxglove.Pose","type":"object",)"
+    R"("properties":{"position":{"title":"foxglove.Vector3","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}},"required":["x",)"
+    R"("y","z"]},"orientation":{"title":"foxglove.Quaternion","type":"object",)"
+    R"("properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},)"
+    R"("w":{"type":"number"}},"required":["x","y","z","w"]}},"required":["position","orientation"]},)"
+    R"("scale":{"title":"foxglove.Vector3","type":"object","properties":{"x":{"type":"number"},)"
+    R"("y":{"type":"number"},"z":{"type":"number"}},"required":["x","y","z"]},)"
+    R"("color":{"title":"foxglove.Color","type":"object","properties":{"r":{"type":"number"},)"
+    R"("g":{"type":"number"},"b":{"type":"number"},"a":{"type":"number"}},"required":["r","g","b","a"]},)"
+    R"("override_color":{"type":"boolean"},"url":{"type":"string"},"media_type":{"type":"string"},)"
+    R"("data":{"type":"string","contentEncoding":"base64"}},"required":["pose","scale","color",)"
+    R"("override_color","url","media_type","data"]}}},"required":["timestamp","frame_id","id","lifetime",)"
+    R"("frame_locked","metadata","arrows","cubes","spheres","cylinders","lines","triangles","texts",)"
+    R"("models"]}}},"required":["deletions","entities"]})";
+// clang-format on
+
+using Json = nlohmann::json;
+// Mesh vertices are float: written in float's shortest round-trip form ("0.1", not
+// "0.10000000149011612"), which keeps a large mesh's message short.
+using JsonF = nlohmann::basic_json<std::map, std::vector, std::string, bool, std::int64_t, std::uint64_t, float>;
+
+constexpr const char* kWorld = "world";
+constexpr int64_t kTruthTfSpacingNs = 100'000'000;  // world -> vehicle_truth at most every 100 ms
+
+// MCAP log times and Foxglove times are unsigned: a negative stamp is shown at 0.
+uint64_t log_ns(Time t) { return t.ns() < 0 ? 0 : static_cast<uint64_t>(t.ns()); }
+
+template <typename J>
+J time_json(Time t) {
+  const uint64_t ns = log_ns(t);
+  return J{{"sec", ns / 1'000'000'000u}, {"nsec", ns % 1'000'000'000u}};
+}
+
+// Unit quaternion with w >= 0 (one representation per rotation, as the TUM files write).
+Json quat_json(Eigen::Quaterniond q) {
+  q.normalize();
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  return {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}};
+}
+
+Json vec_json(const Eigen::Vector3d& p) { return {{"x", p.x()}, {"y", p.y()}, {"z", p.z()}}; }
+
+Json pose_json(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  return {{"position", vec_json(p)}, {"orientation", quat_json(q)}};
+}
+Json pose_json(const SE3& T) { return pose_json(T.translation(), Eigen::Quaterniond(T.rotation())); }
+
+template <typename J>
+J identity_pose() {
+  return J{{"position", {{"x", 0}, {"y", 0}, {"z", 0}}}, {"orientation", {{"x", 0}, {"y", 0}, {"z", 0}, {"w", 1}}}};
+}
+
+std::string base64(const std::vector<uint8_t>& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 3 <= bytes.size(); i += 3) {
+    const uint32_t v = (uint32_t{bytes[i]} << 16) | (uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
+    for (int s : {18, 12, 6, 0}) out += kAlphabet[(v >> s) & 63u];
+  }
+  if (const size_t rest = bytes.size() - i; rest > 0) {
+    const uint32_t v = (uint32_t{bytes[i]} << 16) | (rest == 2 ? uint32_t{bytes[i + 1]} << 8 : 0u);
+    out += kAlphabet[(v >> 18) & 63u];
+    out += kAlphabet[(v >> 12) & 63u];
+    out += rest == 2 ? kAlphabet[(v >> 6) & 63u] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+// x y z float32 little-endian (NumericType FLOAT32 = 7), 12 bytes a point, on any host.
+Json point_cloud_json(const std::vector<Eigen::Vector3f>& points_W, Time stamp) {
+  std::vector<uint8_t> bytes;
+  bytes.reserve(points_W.size() * 12);
+  for (const auto& p : points_W)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t u = 0;
+      const float f = p[k];
+      std::memcpy(&u, &f, sizeof u);
+      for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<uint8_t>(u >> (8 * b)));
+    }
+  Json fields = Json::array();
+  for (int k = 0; k < 3; ++k) fields.push_back({{"name", std::string(1, "xyz"[k])}, {"offset", 4 * k}, {"type", 7}});
+  return {{"timestamp", time_json<Json>(stamp)}, {"frame_id", kWorld},     {"pose", identity_pose<Json>()},
+          {"point_stride", 12},                  {"fields", std::move(fields)}, {"data", base64(bytes)}};
+}
+
+Json poses_json(const std::vector<Json>& poses, Time stamp) {
+  return {{"timestamp", time_json<Json>(stamp)}, {"frame_id", kWorld}, {"poses", poses}};
+}
+
+Json transform_json(Time stamp, const std::string& child, const Json& pose) {
+  return {{"timestamp", time_json<Json>(stamp)}, {"parent_frame_id", kWorld}, {"child_frame_id", child},
+          {"translation", pose["position"]},     {"rotation", pose["orientation"]}};
+}
+
+// One entity, one indexed triangle list (vertices shared, not repeated per triangle).
+JsonF scene_json(const TriangleMesh& mesh, const std::string& note, Time stamp) {
+  JsonF points = JsonF::array();
+  for (const auto& v : mesh.vertices) points.push_back({{"x", v.x()}, {"y", v.y()}, {"z", v.z()}});
+  JsonF indices = JsonF::array();
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) indices.push_back(t[k]);
+  JsonF triangles = JsonF::array();
+  triangles.push_back({{"pose", identity_pose<JsonF>()},
+                       {"points", std::move(points)},
+                       {"color", {{"r", 0.55f}, {"g", 0.6f}, {"b", 0.65f}, {"a", 0.4f}}},
+                       {"colors", JsonF::array()},
+                       {"indices", std::move(indices)}});
+  JsonF entity = {{"timestamp", time_json<JsonF>(stamp)},
+                  {"frame_id", kWorld},
+                  {"id", "truth_mesh"},
+                  {"lifetime", {{"sec", 0}, {"nsec", 0}}},
+                  {"frame_locked", false},
+                  {"metadata", JsonF::array({{{"key", "source"}, {"value", note}}})},
+                  {"arrows", JsonF::array()},
+                  {"cubes", JsonF::array()},
+                  {"spheres", JsonF::array()},
+                  {"cylinders", JsonF::array()},
+                  {"lines", JsonF::array()},
+                  {"triangles", std::move(triangles)},
+                  {"texts", JsonF::array()},
+                  {"models", JsonF::array()}};
+  return {{"deletions", JsonF::array()}, {"entities", JsonF::array({std::move(entity)})}};
+}
+
+// What the file says it is: versions, digests, fixture metadata, configuration, counts and
+// accuracy. Nothing timed (stage runtimes, wall time) so the bytes stay reproducible.
+std::map<std::string, std::string> metadata_values(const RunOutput& run) {
+  std::map<std::string, std::string> m;
+  m["content"] = "orthosonar run results (maps, trajectories, truth mesh); a rendering, not a digest input";
+  m["software_version"] = kVersion;
+  m["digest"] = run.digest.overall_hex;
+  for (const auto& [name, hex] : run.digest.outputs) m["digest." + name] = hex;
+  for (const auto& [k, v] : run.metadata) m["fixture." + k] = v;
+  m["config"] = config_to_json(run.config).dump();
+  Json sources = Json::object();
+  for (const auto& [k, v] : run.config_sources) sources[k] = v;
+  m["config_sources"] = sources.dump();
+  m["ground_truth_mesh"] = run.mesh_note;
+  m["stream_s"] = Json(run.stream_span.seconds()).dump();
+  m["ate_dr_m"] = run.ate_dr_m ? Json(*run.ate_dr_m).dump() : "null";
+  m["ate_slam_m"] = run.ate_slam_m ? Json(*run.ate_slam_m).dump() : "null";
+  if (run.pipeline) {
+    Json counts = Json::object();
+    for (const auto& [k, v] : count_fields(run.counts, run.pipeline->dead_reckoning().counts())) counts[k] = v;
+    m["counts"] = counts.dump();
+  }
+  std::string systems;
+  for (const auto& s : run.systems) {
+    systems += (systems.empty() ? "" : ",") + s.name;
+    m["map_points." + s.name] = std::to_string(s.map_W.size());
+    m["coverage_voxels." + s.name] = std::to_string(s.coverage_voxels);
+    if (s.accuracy) {
+      m["mae_m." + s.name] = Json(s.accuracy->mae_m).dump();
+      m["rmse_m." + s.name] = Json(s.accuracy->rmse_m).dump();
+    }
+  }
+  m["systems"] = systems;
+  return m;
+}
+
+// The stamps the file spans: the run keeps no absolute first/last event stamp, so these
+// come from the truth, the keyframes and dead reckoning (falling back to [0, stream span]).
+std::pair<Time, Time> time_bounds(const RunOutput& run) {
+  std::vector<Time> stamps;
+  if (!run.truth.empty()) stamps.insert(stamps.end(), {run.truth.front().stamp, run.truth.back().stamp});
+  if (run.pipeline) {
+    const auto& kfs = run.pipeline->slam().keyframes();
+    if (!kfs.empty()) stamps.insert(stamps.end(), {kfs.front().stamp, kfs.back().stamp});
+    const auto& dr = run.pipeline->dead_reckoning();
+    if (!dr.empty()) stamps.insert(stamps.end(), {dr.first_time(), dr.last_time()});
+  }
+  if (stamps.empty()) return {Time(), run.stream_span};
+  return {*std::min_element(stamps.begin(), stamps.end()), *std::max_element(stamps.begin(), stamps.end())};
+}
+
+}  // namespace
+
+Status write_results_mcap(const RunOutput& run, const std::string& path) {
+  if (run.mesh && !run.mesh->valid()) return Error{path + ": the truth mesh has a triangle index out of range"};
+  replay::mcap::GenericWriterOptions options;
+  options.library = std::string("orthosonar ") + kVersion;
+  auto opened = replay::mcap::GenericWriter::open(path, options);
+  if (!opened.ok()) return opened.error();
+  replay::mcap::GenericWriter& w = **opened;
+  const auto [start, end] = time_bounds(run);
+
+  std::map<std::string, uint16_t> schemas;
+  auto channel = [&](const std::string& topic, const std::string& schema_name, const char* schema_text) {
+    auto it = schemas.find(schema_name);
+    if (it == schemas.end())
+      it = schemas.emplace(schema_name, w.add_schema(schema_name, "jsonschema", schema_text)).first;
+    return w.add_channel(it->second, topic, "json");
+  };
+  std::map<uint16_t, uint32_t> sequence;
+  auto emit = [&](uint16_t ch, Time stamp, const std::string& bytes) {
+    const uint64_t t = log_ns(stamp);
+    return w.write(ch, sequence[ch]++, t, t, reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+  };
+
+  // In log-time order: the scene at the start, the tf stream, then the end-of-run results.
+  if (run.mesh)
+    if (Status st = emit(channel("/orthosonar/scene", "foxglove.SceneUpdate", kSceneUpdateSchema), start,
+                         scene_json(*run.mesh, run.mesh_note, start).dump());
+        !st.ok())
+      return st;
+
+  std::vector<Json> truth_poses, dr_poses, slam_poses;
+  truth_poses.reserve(run.truth.size());
+  for (const auto& p : run.truth) truth_poses.push_back(pose_json(p.p_W, p.q_W_V));
+  struct Tf {
+    Time stamp;
+    int order;  // truth, dr, slam at equal stamps
+    size_t index;
+  };
+  std::vector<Tf> tf;
+  if (run.pipeline)
+    for (const auto& k : run.pipeline->slam().keyframes()) {
+      dr_poses.push_back(pose_json(k.T_W_V_dr));
+      slam_poses.push_back(pose_json(k.T_W_V_slam));
+      tf.push_back({k.stamp, 1, dr_poses.size() - 1});
+      tf.push_back({k.stamp, 2, slam_poses.size() - 1});
+    }
+  std::optional<Time> last_truth_tf;
+  for (size_t i = 0; i < run.truth.size(); ++i) {
+    const Time t = run.truth[i].stamp;
+    if (last_truth_tf && (t - *last_truth_tf).ns() < kTruthTfSpacingNs) continue;
+    last_truth_tf = t;
+    tf.push_back({t, 0, i});
+  }
+  std::stable_sort(tf.begin(), tf.end(), [](const Tf& a, const Tf& b) {
+    return std::tie(a.stamp, a.order) < std::tie(b.stamp, b.order);
+  });
+  if (!tf.empty()) {
+    const uint16_t ch = channel("/orthosonar/tf", "foxglove.FrameTransform", kFrameTransformSchema);
+    static constexpr const char* kChild[] = {"vehicle_truth", "vehicle_dr", "vehicle_slam"};
+    const std::vector<Json>* poses_of[] = {&truth_poses, &dr_poses, &slam_poses};
+    for (const Tf& f : tf) {
+      const auto& pose = (*poses_of[f.order])[f.index];
+      if (Status st = emit(ch, f.stamp, transform_json(f.stamp, kChild[f.order], pose).dump()); !st.ok()) return st;
+    }
+  }
+
+  for (const auto& s : run.systems)
+    if (Status st = emit(channel("/orthosonar/" + s.name + "/map", "foxglove.PointCloud", kPointCloudSchema), end,
+                         point_cloud_json(s.map_W, end).dump());
+        !st.ok())
+      return st;
+  const std::pair<const char*, const std::vector<Json>*> trajectories[] = {
+      {"truth", &truth_poses}, {"dr", &dr_poses}, {"slam", &slam_poses}};
+  for (const auto& [name, poses] : trajectories)
+    if (!poses->empty())
+      if (Status st = emit(channel(std::string("/orthosonar/trajectory/") + name, "foxglove.PosesInFrame",
+                                   kPosesInFrameSchema),
+                           end, poses_json(*poses, end).dump());
+          !st.ok())
+        return st;
+  if (Status st = w.metadata("orthosonar", metadata_values(run)); !st.ok()) return st;
+  return w.close();
+}
+
+}  // namespace orthosonar::run
