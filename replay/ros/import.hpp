@@ -47,7 +47,7 @@ Result<InputSummary> list_input(const std::string& path, const TopicMap& map);
 
 struct ImportOptions {
   TopicMap map = default_topic_map();
-  // zstd level 1: twice the import speed of the recorder's level 3 for about 2 % more bytes
+  // zstd level 1: twice the import speed of the recorder's level 3 for 0.2 % more bytes
   // on sonar images (docs/BENCHMARKS.md); a replay reads either the same.
   WriterOptions writer = {.compress = true, .zstd_level = 1};
 };
