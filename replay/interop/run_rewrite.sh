@@ -26,8 +26,9 @@ reference=$("$cli" replay original.mcap -q -o out_original 2>replay_original.err
 echo "original $reference" >digests.txt
 
 for mode in default nosummary nochunks lz4 uncompressed zstd; do
+  echo "$(date +%T) rewrite $mode"
   node "$npm_dir/rewrite.mjs" original.mcap "$mode.mcap" "$mode" >"rewrite_$mode.json" || fail "rewrite $mode"
-  digest=$("$cli" replay "$mode.mcap" -q -o "out_$mode" 2>"replay_$mode.err") \
+  digest=$(timeout 120 "$cli" replay "$mode.mcap" -q -o "out_$mode" 2>"replay_$mode.err") \
     || fail "replay of the $mode rewrite: $(cat "replay_$mode.err")"
   echo "$mode $digest" >>digests.txt
   [ "$digest" = "$reference" ] || fail "$mode rewrite: digest $digest, the original's $reference"
@@ -55,7 +56,7 @@ done
 for mode in nosummary lz4; do
   size=$(wc -c <"$mode.mcap")
   head -c $((size * 2 / 3)) "$mode.mcap" >"died_$mode.mcap"
-  digest=$("$cli" replay "died_$mode.mcap" -q -o "out_died_$mode" 2>"replay_died_$mode.err") \
+  digest=$(timeout 120 "$cli" replay "died_$mode.mcap" -q -o "out_died_$mode" 2>"replay_died_$mode.err") \
     || fail "replay of the cut $mode rewrite: $(cat "replay_died_$mode.err")"
   grep -q "warning: .*died_$mode.mcap is incomplete: .*byte offset" "replay_died_$mode.err" \
     || fail "cut $mode rewrite: no truncation warning: $(cat "replay_died_$mode.err")"

@@ -13,7 +13,10 @@ npm_dir=$4
 work=$5
 scene=marina1
 seconds=30
-(src=$interop; . "$interop/npm_setup.sh") || exit $?
+here=$src
+src=$interop
+. "$interop/npm_setup.sh"
+src=$here
 mkdir -p "$work" || exit 1
 cd "$work" || exit 1
 rm -rf ./*
