@@ -39,6 +39,13 @@ Result<double> number(const YAML::Node& n, const std::string& where) {
   }
 }
 
+// "x y z roll pitch yaw" as fixture metadata stores extrinsics (lossless).
+std::string pose6_text(const double (&v)[6]) {
+  std::string out;
+  for (int i = 0; i < 6; ++i) out += (i ? " " : "") + fmt17(v[i]);
+  return out;
+}
+
 // A mount: "x y z roll pitch yaw" (metres, radians) or {xyz: [x, y, z], rpy_deg: [r, p, y]}.
 Result<std::string> mount(const YAML::Node& n, const std::string& where) {
   if (n.IsScalar()) {
@@ -48,9 +55,7 @@ Result<std::string> mount(const YAML::Node& n, const std::string& where) {
       if (!(in >> x) || !std::isfinite(x)) return Error{where + ": expected \"x y z roll pitch yaw\" (metres, radians)"};
     std::string rest;
     if (in >> rest) return Error{where + ": more than six numbers"};
-    std::string out;
-    for (int i = 0; i < 6; ++i) out += (i ? " " : "") + fmt17(v[i]);
-    return out;
+    return pose6_text(v);
   }
   if (!n.IsMap()) return Error{where + ": expected \"x y z roll pitch yaw\" or {xyz: [...], rpy_deg: [...]}"};
   double v[6] = {0, 0, 0, 0, 0, 0};
@@ -67,9 +72,7 @@ Result<std::string> mount(const YAML::Node& n, const std::string& where) {
       v[(*k == "xyz" ? 0 : 3) + i] = deg ? *x * std::numbers::pi / 180.0 : *x;
     }
   }
-  std::string out;
-  for (int i = 0; i < 6; ++i) out += (i ? " " : "") + fmt17(v[i]);
-  return out;
+  return pose6_text(v);
 }
 
 Status apply_rule_key(TopicRule& r, const std::string& key, const YAML::Node& v, const std::string& where) {
