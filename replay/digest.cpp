@@ -68,6 +68,26 @@ DigestResult DigestBuilder::finish() const {
 
 std::string sha256_hex(const uint8_t* data, size_t size) { return to_hex(sha256(data, size)); }
 
+Result<std::string> sha256_file_hex(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return Error{"cannot open '" + path + "'"};
+  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) return Error{"sha256: OpenSSL failed"};
+  std::vector<char> buf(1 << 20);
+  while (f) {
+    f.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    const auto n = f.gcount();
+    if (n > 0 && EVP_DigestUpdate(ctx.get(), buf.data(), static_cast<size_t>(n)) != 1)
+      return Error{"sha256: OpenSSL failed"};
+  }
+  if (f.bad()) return Error{"read error in '" + path + "'"};
+  std::vector<uint8_t> md(EVP_MAX_MD_SIZE);
+  unsigned int len = 0;
+  if (EVP_DigestFinal_ex(ctx.get(), md.data(), &len) != 1) return Error{"sha256: OpenSSL failed"};
+  md.resize(len);
+  return to_hex(md);
+}
+
 Status write_digest_json(const std::string& path, const DigestResult& d) {
   nlohmann::ordered_json j;
   j["overall"] = d.overall_hex;

@@ -32,6 +32,8 @@ class DigestBuilder {
 
 // SHA-256 of bytes, lowercase hex.
 std::string sha256_hex(const uint8_t* data, size_t size);
+// SHA-256 of a file's bytes, read in 1 MiB blocks, lowercase hex. Errors name the file.
+Result<std::string> sha256_file_hex(const std::string& path);
 
 // {"overall": "<hex>", "outputs": {"<name>": "<hex>", ...}} (SPEC output contract).
 Status write_digest_json(const std::string& path, const DigestResult& digest);

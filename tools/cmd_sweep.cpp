@@ -1,8 +1,12 @@
 // `orthosonar sweep --scene S -o dir/`: the paper's experiment on one scene. Simulates one
 // fixture, fuses every pair once, then runs the 15 keyframe settings (distance 1-5 m x
-// rotation 30/60/90 deg) over both cores, each cell with every system; writes grid.json,
-// grid.csv and tables.md (the paper's coverage grid, Table II and Table III layouts), then
-// the reference cell's full outputs and report/report.html (heat maps, maps, tables).
+// rotation 30/60/90 deg; --cells for a subset) over both cores, each cell with every system;
+// writes grid.json, grid.csv and tables.md (the paper's coverage grid and Table II layout;
+// the same bytes on every machine), runtime.json/.md (Table III, timings), then the
+// reference cell's full outputs and report/report.html (heat maps, maps, tables).
+// Several scenes or seeds (--scenes a,b --seeds 1-5) write <scene>/seed<N>/ each and
+// seeds.md/seeds.json (per seed and pooled over seeds). `orthosonar batch plan sweep`
+// shards the same work; its merge writes the same bytes.
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -12,22 +16,23 @@
 #include <thread>
 
 #include "hal/fake_source.hpp"
-#include "reports/report.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
 #include "replay/run/mission.hpp"
 #include "tools/support_run_args.hpp"
 #include "replay/run/sweep.hpp"
+#include "tools/support_sweep_report.hpp"
 
 namespace orthosonar::cli {
 namespace {
 
 struct SweepArgs {
-  std::string scene = "harbor";
+  std::string scene = "harbor";  // one scene, or several separated by commas
   std::string out_dir = "out/sweep";
   double duration_s = 600.0;
   std::string resolution = "full";
-  uint64_t seed = 1;
+  std::string seeds = "1";
+  std::string cells = "all";
   int threads = 2;
   bool no_report = false;
   std::string fixture;  // use this fixture instead of simulating
@@ -40,79 +45,101 @@ int fail(const std::string& m) {
   return 2;
 }
 
+std::vector<std::string> split_scenes(const std::string& spec) {
+  std::vector<std::string> out;
+  std::stringstream ss(spec);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// One (fixture, seed) sweep: fuse once, run the cells, write the outputs into `dir` and,
+// unless --no-report, the reference cell's full outputs and the report.
+Result<SweepReport> sweep_one(const SweepArgs& a, const RunOptions& options, const std::string& fixture,
+                              const std::vector<GridCell>& cells, const std::string& dir) {
+  const int threads = std::max(1, a.threads);
+  // Pass 1: fuse every pair once (both cores) and keep the stream without images.
+  auto prepared = prepare_sweep(fixture, options, threads,
+                                [&](double f) { print_progress("fuse", f, "pairs fused once for all cells"); });
+  if (!prepared.ok()) return prepared.error();
+  print_progress("fuse", 1.0, "done");
+  // Pass 2: the cells over `threads` workers; results by cell index (deterministic).
+  auto ok = run_cells(*prepared, options, cells, threads, [](size_t d, size_t n) {
+    print_progress("cells", static_cast<double>(d) / static_cast<double>(n), std::to_string(d) + "/" + std::to_string(n));
+  });
+  if (!ok.ok()) return ok.error();
+  SweepReport report = make_sweep_report(*prepared, std::move(*ok));
+  if (Status s = write_sweep_outputs(report, dir); !s.ok()) return s.error();
+  if (!a.no_report) {
+    if (Status s = write_reference_outputs(fixture, options, threads, dir); !s.ok()) return s.error();
+    if (Status s = write_sweep_report(dir, "orthosonar sweep: " + report.scene); !s.ok()) return s.error();
+  }
+  return report;
+}
+
 int run_sweep(SweepArgs a) {
   namespace fs = std::filesystem;
   auto options = run_options_from(a.run);
   if (!options.ok()) return fail(options.error().message);
-  const int threads = std::max(1, a.threads);
+  auto cells = parse_cells(a.cells);
+  if (!cells.ok()) return fail(cells.error().message);
+  auto seeds = parse_seeds(a.seeds);
+  if (!seeds.ok()) return fail(seeds.error().message);
+  const auto scenes = split_scenes(a.scene);
+  if (scenes.empty()) return fail("--scene: no scene given");
   std::error_code ec;
   fs::create_directories(a.out_dir, ec);
   if (ec) return fail("cannot create '" + a.out_dir + "': " + ec.message());
 
-  std::string fixture = a.fixture;
-  if (fixture.empty()) {
-    MissionSpec spec;
-    spec.scene = a.scene;
-    spec.duration_s = a.duration_s;
-    auto res = sim::parse_resolution(a.resolution);
-    if (!res.ok()) return fail(res.error().message);
-    spec.resolution = *res;
-    spec.seed = a.seed;
-    spec.render_threads = threads;
-    if (!a.sim_config.empty()) {
-      std::ifstream f(a.sim_config);
-      if (!f) return fail("cannot open '" + a.sim_config + "'");
-      std::stringstream ss;
-      ss << f.rdbuf();
-      spec.sim_config_yaml = ss.str();
-    }
-    fixture = (fs::path(a.out_dir) / (a.scene + ".mcap")).string();
-    auto made = ensure_mission_fixture(spec, fixture, [&](double f) { print_progress("simulate", f, a.scene); });
-    if (!made.ok()) return fail(made.error().message);
-    if (!*made) std::cerr << "simulate: reusing " << fixture << "\n";
+  if (!a.fixture.empty()) {  // a given fixture: one sweep into out_dir
+    auto report = sweep_one(a, *options, a.fixture, *cells, a.out_dir);
+    if (!report.ok()) return fail(report.error().message);
+    std::cout << sweep_tables_markdown(*report);
+    std::cerr << "sweep: outputs in " << a.out_dir << "\n";
+    return 0;
   }
-
-  // Pass 1: fuse every pair once (both cores) and keep the stream without images.
-  auto prepared = prepare_sweep(fixture, *options, threads,
-                                [&](double f) { print_progress("fuse", f, "pairs fused once for all cells"); });
-  if (!prepared.ok()) return fail(prepared.error().message);
-  print_progress("fuse", 1.0, "done");
-
-  // Pass 2: the 15 cells over `threads` workers; results by cell index (deterministic).
-  const auto cells = paper_grid();
-  auto ok = run_cells(*prepared, *options, cells, threads, [](size_t d, size_t n) {
-    print_progress("cells", static_cast<double>(d) / static_cast<double>(n), std::to_string(d) + "/" + std::to_string(n));
-  });
-  if (!ok.ok()) return fail(ok.error().message);
-  const SweepReport report = make_sweep_report(*prepared, std::move(*ok));
-  if (Status s = write_sweep_outputs(report, a.out_dir); !s.ok()) return fail(s.error().message);
-  std::cout << sweep_tables_markdown(report);
-
-  // The reference cell (SPEC §5 defaults: 3 m / 30 deg) replayed in full into the sweep
-  // directory (maps, metrics, trajectories, digest), so the report shows the maps beside
-  // the heat maps. Skipped with --no-report.
-  if (!a.no_report) {
-    RunOptions ref = *options;
-    ref.threads_override = threads;
-    ref.adjust = [](RunConfig& c) {  // the reference cell
-      c.pipeline.slam.kf_distance_m = 3.0;
-      c.pipeline.slam.kf_rotation_deg = 30.0;
-    };
-    auto run = run_fixture(fixture, ref);
-    if (!run.ok()) return fail(run.error().message);
-    if (Status s = write_run_outputs(*run, ref, a.out_dir); !s.ok()) return fail(s.error().message);
-    const std::string report_dir = (fs::path(a.out_dir) / "report").string();
-    reports::ReportOptions ropt;
-    const auto scene_it = run->metadata.find("scene");
-    ropt.title = "orthosonar sweep: " + (scene_it != run->metadata.end() ? scene_it->second : a.scene);
-    Status rs = reports::write_report(a.out_dir, report_dir, ropt);
-    if (!rs.ok()) {
-      std::cerr << "sweep: report: " << rs.error().message << "; writing it without 3D renders\n";
-      ropt.require_renders = false;
-      rs = reports::write_report(a.out_dir, report_dir, ropt);
+  std::string sim_yaml;
+  if (!a.sim_config.empty()) {
+    std::ifstream f(a.sim_config);
+    if (!f) return fail("cannot open '" + a.sim_config + "'");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    sim_yaml = ss.str();
+  }
+  auto res = sim::parse_resolution(a.resolution);
+  if (!res.ok()) return fail(res.error().message);
+  // One scene and one seed write into out_dir itself (as always); several write one folder
+  // per (scene, seed) and seeds.md / seeds.json over them (write_sweep_set).
+  const bool set = scenes.size() > 1 || seeds->size() > 1;
+  std::vector<SweepReport> reports;
+  std::vector<uint64_t> report_seeds;
+  for (const auto& scene : scenes)
+    for (const uint64_t seed : *seeds) {
+      MissionSpec spec;
+      spec.scene = scene;
+      spec.duration_s = a.duration_s;
+      spec.resolution = *res;
+      spec.seed = seed;
+      spec.render_threads = std::max(1, a.threads);
+      spec.sim_config_yaml = sim_yaml;
+      const std::string dir = set ? (fs::path(a.out_dir) / sweep_set_dir(scene, seed)).string() : a.out_dir;
+      fs::create_directories(dir, ec);
+      if (ec) return fail("cannot create '" + dir + "': " + ec.message());
+      const std::string fixture = (fs::path(dir) / (scene + ".mcap")).string();
+      auto made = ensure_mission_fixture(spec, fixture,
+                                         [&](double f) { print_progress("simulate", f, scene + " seed " + std::to_string(seed)); });
+      if (!made.ok()) return fail(made.error().message);
+      if (!*made) std::cerr << "simulate: reusing " << fixture << "\n";
+      auto report = sweep_one(a, *options, fixture, *cells, dir);
+      if (!report.ok()) return fail(scene + " seed " + std::to_string(seed) + ": " + report.error().message);
+      if (!set) std::cout << sweep_tables_markdown(*report);
+      reports.push_back(std::move(*report));
+      report_seeds.push_back(seed);
     }
-    if (!rs.ok()) return fail("report: " + rs.error().message);
-    std::cerr << "sweep: report " << (fs::path(report_dir) / "report.html").string() << "\n";
+  if (set) {
+    if (Status s = write_sweep_set(reports, report_seeds, a.out_dir); !s.ok()) return fail(s.error().message);
+    std::cout << seeds_markdown(reports, report_seeds);
   }
   std::cerr << "sweep: outputs in " << a.out_dir << "\n";
   return 0;
@@ -122,11 +149,18 @@ const bool registered = register_command(
     {"sweep", "Run the paper's keyframe-density experiment on one scene (coverage, error, runtime tables)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<SweepArgs>();
-       sub.add_option("--scene", a->scene, "Built-in scene (marina1, marina2, harbor, aircraft)")->capture_default_str();
+       sub.add_option("--scene,--scenes", a->scene,
+                      "Built-in scene (marina1, marina2, harbor, aircraft); several separated by commas")
+           ->capture_default_str();
        sub.add_option("-o,--out", a->out_dir, "Output directory")->capture_default_str();
        sub.add_option("--duration", a->duration_s, "Mission duration (s)")->capture_default_str();
        sub.add_option("--resolution", a->resolution, "full or reduced")->capture_default_str();
-       sub.add_option("--seed", a->seed, "Simulation seed")->capture_default_str();
+       sub.add_option("--seed,--seeds", a->seeds,
+                      "Simulation seed(s): 2, 1-5 or 1,3,7; several write one folder per scene and seed and "
+                      "seeds.md (per seed and pooled)")
+           ->capture_default_str();
+       sub.add_option("--cells", a->cells, "Keyframe cells: all, or DISTANCE/ROTATION list such as 1/30,3/30,5/90")
+           ->capture_default_str();
        sub.add_option("--workers", a->threads, "Worker threads (cells in parallel)")->capture_default_str();
        sub.add_option("--fixture", a->fixture, "Use this fixture instead of simulating one");
        sub.add_option("--sim-config", a->sim_config, "Simulator config YAML (fields of SimConfig)");

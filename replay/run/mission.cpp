@@ -3,6 +3,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include "hal/sim/simulator.hpp"
 #include "replay/fixture.hpp"
@@ -44,7 +47,9 @@ Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& 
   std::error_code ec;
   if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty())
     std::filesystem::create_directories(parent, ec);
-  const std::string tmp = path + ".partial";
+  // A name of this process's own: batch tasks sharing a fixture may simulate it at the
+  // same time (same bytes; the last rename wins, each rename is atomic).
+  const std::string tmp = path + ".partial." + std::to_string(::getpid());
   auto writer = replay::FixtureWriter::open(tmp, simulator.metadata());
   if (!writer.ok()) return writer.error();
   // The fixture carries its scene (docs/SCENES.md): replay needs nothing else.
@@ -63,7 +68,11 @@ Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& 
   }
   if (Status s = (*writer)->close(); !s.ok()) return s.error();
   std::filesystem::rename(tmp, path, ec);
-  if (ec) return Error{"cannot rename '" + tmp + "' to '" + path + "': " + ec.message()};
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    return Error{"cannot rename '" + tmp + "' to '" + path + "': " + ec.message()};
+  }
   if (progress) progress(1.0);
   return true;
 }

@@ -237,15 +237,17 @@ std::string sweep_tables_markdown(const SweepReport& r) {
     md << "**" << name << "**\n\n| rotation \\ distance | 1 m | 2 m | 3 m | 4 m | 5 m |\n|---|---|---|---|---|---|\n";
     for (double rot : {30.0, 60.0, 90.0}) {
       md << "| " << fmt("%.0f", rot) << "° |";
-      for (int d = 1; d <= 5; ++d)
+      for (int d = 1; d <= 5; ++d) {
+        const CellSystem* s = nullptr;
         for (const auto& c : r.cells)
-          if (c.cell.rotation_deg == rot && c.cell.distance_m == d)
-            if (const auto* s = find(c, name)) md << " " << s->coverage_voxels << " |";
+          if (c.cell.rotation_deg == rot && c.cell.distance_m == d) s = find(c, name);
+        md << " " << (s ? std::to_string(s->coverage_voxels) : std::string("–")) << " |";  // – : cell not run
+      }
       md << "\n";
     }
     md << "\n";
   }
-  md << "Mapping error (m), pooled over the 15 cells (paper Table II layout).\n\n| System | MAE | RMSE |\n|---|---|---|\n";
+  md << "Mapping error (m), pooled over the " << r.cells.size() << " cells (paper Table II layout).\n\n| System | MAE | RMSE |\n|---|---|---|\n";
   for (const auto& name : names) {
     double sum = 0, sum_sq = 0;
     int64_t n = 0;
@@ -258,6 +260,19 @@ std::string sweep_tables_markdown(const SweepReport& r) {
     md << "| " << name << " | " << (n ? fmt("%.3f", sum / static_cast<double>(n)) : "n/a") << " | "
        << (n ? fmt("%.3f", std::sqrt(sum_sq / static_cast<double>(n))) : "n/a") << " |\n";
   }
+  md << "\nATE per cell (m), DR / SLAM: ";
+  for (const auto& c : r.cells)
+    md << fmt("%.0f", c.cell.distance_m) << "m/" << fmt("%.0f", c.cell.rotation_deg) << "° "
+       << (c.ate_dr_m ? fmt("%.2f", *c.ate_dr_m) : "n/a") << "/" << (c.ate_slam_m ? fmt("%.2f", *c.ate_slam_m) : "n/a")
+       << (&c == &r.cells.back() ? "\n" : "; ");
+  md << "\nMission: " << fmt("%.0f", r.stream_s) << " s of sensor data.\n";
+  return md.str();
+}
+
+std::string sweep_runtime_markdown(const SweepReport& r) {
+  std::ostringstream md;
+  const auto names = system_names(r);
+  md << "## " << r.scene << ": runtime\n";
   md << "\nRuntime in seconds (paper Table III layout; mean and SD).\n\n| Stage | Mean | SD | Count |\n|---|---|---|---|\n";
   auto row = [&](const std::string& label, const mapping::RuntimeStats& s) {
     md << "| " << label << " | " << fmt("%.3g", s.mean_ms() / 1000.0) << " | " << fmt("%.3g", s.sd_ms() / 1000.0)
@@ -274,13 +289,7 @@ std::string sweep_tables_markdown(const SweepReport& r) {
   mapping::RuntimeStats slam;
   for (const auto& c : r.cells) slam.merge(c.slam_runtime);
   row("SLAM update (per keyframe)", slam);
-  md << "\nATE per cell (m), DR / SLAM: ";
-  for (const auto& c : r.cells)
-    md << fmt("%.0f", c.cell.distance_m) << "m/" << fmt("%.0f", c.cell.rotation_deg) << "° "
-       << (c.ate_dr_m ? fmt("%.2f", *c.ate_dr_m) : "n/a") << "/" << (c.ate_slam_m ? fmt("%.2f", *c.ate_slam_m) : "n/a")
-       << (&c == &r.cells.back() ? "\n" : "; ");
-  md << "\nMission: " << fmt("%.0f", r.stream_s) << " s of sensor data; fusing every pair once took "
-     << fmt("%.1f", r.fuse_wall_s) << " s wall.\n";
+  md << "\nFusing every pair once took " << fmt("%.1f", r.fuse_wall_s) << " s wall.\n";
   return md.str();
 }
 
@@ -308,12 +317,24 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
           << (c.ate_dr_m ? fmt("%.6f", *c.ate_dr_m) : "") << "," << (c.ate_slam_m ? fmt("%.6f", *c.ate_slam_m) : "")
           << "," << c.keyframes << "\n";
     }
-  j["runtime"] = {{"fusion", {{"mean_ms", r.fusion_runtime.mean_ms()}, {"sd_ms", r.fusion_runtime.sd_ms()},
-                              {"count", r.fusion_runtime.count}}}};
-  if (r.inference_runtime.count > 0)
-    j["runtime"]["inference_per_frame"] = {{"mean_ms", r.inference_runtime.mean_ms()},
-                                           {"sd_ms", r.inference_runtime.sd_ms()},
-                                           {"count", r.inference_runtime.count}};
+  // Timings live apart (runtime.json): grid.json is the same bytes on every machine.
+  auto stats = [](const mapping::RuntimeStats& s) {
+    return nlohmann::json{{"mean_ms", s.mean_ms()}, {"sd_ms", s.sd_ms()}, {"count", s.count}};
+  };
+  nlohmann::json rt;
+  rt["scene"] = r.scene;
+  rt["fusion"] = stats(r.fusion_runtime);
+  if (r.inference_runtime.count > 0) rt["inference_per_frame"] = stats(r.inference_runtime);
+  mapping::RuntimeStats slam;
+  for (const auto& c : r.cells) slam.merge(c.slam_runtime);
+  rt["slam_update"] = stats(slam);
+  for (const auto& name : system_names(r)) {
+    mapping::RuntimeStats st;
+    for (const auto& c : r.cells)
+      if (const auto* cs = find(c, name)) st.merge(cs->runtime);
+    rt["systems"][name] = stats(st);
+  }
+  rt["fuse_wall_s"] = r.fuse_wall_s;
   const fs::path out(out_dir);
   auto write = [](const fs::path& p, const std::string& text) -> Status {
     std::ofstream f(p, std::ios::trunc);
@@ -323,7 +344,284 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
   };
   if (Status s = write(out / "grid.json", j.dump(2) + "\n"); !s.ok()) return s;
   if (Status s = write(out / "grid.csv", csv.str()); !s.ok()) return s;
-  return write(out / "tables.md", sweep_tables_markdown(r));
+  if (Status s = write(out / "tables.md", sweep_tables_markdown(r)); !s.ok()) return s;
+  if (Status s = write(out / "runtime.json", rt.dump(2) + "\n"); !s.ok()) return s;
+  return write(out / "runtime.md", sweep_runtime_markdown(r));
+}
+
+// ---- cell lists, seeds, shard results, sets of sweeps ----
+
+namespace {
+
+std::string trim(std::string t) {
+  const auto a = t.find_first_not_of(" \t");
+  const auto b = t.find_last_not_of(" \t");
+  return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+}
+
+std::vector<std::string> split_commas(const std::string& spec) {
+  std::vector<std::string> items;
+  std::stringstream ss(spec);
+  std::string item;
+  while (std::getline(ss, item, ',')) items.push_back(trim(item));
+  return items;
+}
+
+// A whole non-negative number, all of `t`.
+std::optional<uint64_t> whole(const std::string& t) {
+  if (t.empty() || t.size() > 18 || t.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  return std::stoull(t);
+}
+
+}  // namespace
+
+Result<std::vector<GridCell>> parse_cells(const std::string& spec) {
+  const auto grid = paper_grid();
+  if (trim(spec) == "all") return grid;
+  std::vector<bool> chosen(grid.size(), false);
+  for (const auto& item : split_commas(spec)) {
+    const auto slash = item.find('/');
+    const auto d = slash == std::string::npos ? std::nullopt : whole(trim(item.substr(0, slash)));
+    const auto r = slash == std::string::npos ? std::nullopt : whole(trim(item.substr(slash + 1)));
+    bool found = false;
+    for (size_t i = 0; d && r && i < grid.size(); ++i)
+      if (grid[i].distance_m == static_cast<double>(*d) && grid[i].rotation_deg == static_cast<double>(*r)) {
+        chosen[i] = true;
+        found = true;
+      }
+    if (!found)
+      return Error{"cells: '" + item +
+                   "' is not a cell of the paper grid (DISTANCE/ROTATION with distance 1-5 m and rotation 30, 60 or "
+                   "90 deg, e.g. 3/30; or 'all')"};
+  }
+  std::vector<GridCell> out;
+  for (size_t i = 0; i < grid.size(); ++i)
+    if (chosen[i]) out.push_back(grid[i]);
+  if (out.empty()) return Error{"cells: no cell given (e.g. 'all' or '1/30,3/30')"};
+  return out;
+}
+
+std::string cell_name(const GridCell& c) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%gm%g", c.distance_m, c.rotation_deg);
+  return buf;
+}
+
+Result<std::vector<uint64_t>> parse_seeds(const std::string& spec) {
+  std::set<uint64_t> seeds;
+  for (const auto& item : split_commas(spec)) {
+    const auto dash = item.find('-');
+    if (dash == std::string::npos) {
+      const auto v = whole(item);
+      if (!v) return Error{"seeds: '" + item + "' is not a seed (a whole number, or a range such as 1-5)"};
+      seeds.insert(*v);
+      continue;
+    }
+    const auto a = whole(trim(item.substr(0, dash)));
+    const auto b = whole(trim(item.substr(dash + 1)));
+    if (!a || !b || *b < *a) return Error{"seeds: '" + item + "' is not a range FIRST-LAST with FIRST <= LAST"};
+    if (*b - *a >= 10000) return Error{"seeds: '" + item + "' spans more than 10000 seeds"};
+    for (uint64_t v = *a; v <= *b; ++v) seeds.insert(v);
+  }
+  if (seeds.empty()) return Error{"seeds: none given (e.g. 1-5)"};
+  return std::vector<uint64_t>(seeds.begin(), seeds.end());
+}
+
+nlohmann::json runtime_stats_to_json(const mapping::RuntimeStats& s) {
+  return {{"count", s.count}, {"sum_ms", s.sum_ms}, {"sum_sq_ms", s.sum_sq_ms}};
+}
+
+mapping::RuntimeStats runtime_stats_from_json(const nlohmann::json& j) {
+  mapping::RuntimeStats s;
+  if (!j.is_object()) return s;
+  s.count = j.value("count", int64_t{0});
+  s.sum_ms = j.value("sum_ms", 0.0);
+  s.sum_sq_ms = j.value("sum_sq_ms", 0.0);
+  return s;
+}
+
+nlohmann::json cell_result_to_json(const CellResult& c) {
+  auto opt = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"distance_m", c.cell.distance_m}, {"rotation_deg", c.cell.rotation_deg},
+                      {"keyframes", c.keyframes},        {"ate_dr_m", opt(c.ate_dr_m)},
+                      {"ate_slam_m", opt(c.ate_slam_m)}, {"slam_runtime", runtime_stats_to_json(c.slam_runtime)},
+                      {"digest", c.digest},              {"wall_s", c.wall_s}};
+  j["systems"] = nlohmann::json::array();
+  for (const auto& s : c.systems)
+    j["systems"].push_back({{"system", s.system},
+                            {"coverage_voxels", s.coverage_voxels},
+                            {"accuracy_count", s.accuracy_count},
+                            {"mae_m", s.mae_m},
+                            {"rmse_m", s.rmse_m},
+                            {"runtime", runtime_stats_to_json(s.runtime)}});
+  return j;
+}
+
+Result<CellResult> cell_result_from_json(const nlohmann::json& j) {
+  try {
+    CellResult c;
+    c.cell.distance_m = j.at("distance_m").get<double>();
+    c.cell.rotation_deg = j.at("rotation_deg").get<double>();
+    c.keyframes = j.at("keyframes").get<int64_t>();
+    if (!j.at("ate_dr_m").is_null()) c.ate_dr_m = j.at("ate_dr_m").get<double>();
+    if (!j.at("ate_slam_m").is_null()) c.ate_slam_m = j.at("ate_slam_m").get<double>();
+    c.slam_runtime = runtime_stats_from_json(j.value("slam_runtime", nlohmann::json()));
+    c.digest = j.at("digest").get<std::string>();
+    c.wall_s = j.value("wall_s", 0.0);
+    for (const auto& sj : j.at("systems")) {
+      CellSystem s;
+      s.system = sj.at("system").get<std::string>();
+      s.coverage_voxels = sj.at("coverage_voxels").get<int64_t>();
+      s.accuracy_count = sj.at("accuracy_count").get<int64_t>();
+      s.mae_m = sj.at("mae_m").get<double>();
+      s.rmse_m = sj.at("rmse_m").get<double>();
+      s.runtime = runtime_stats_from_json(sj.value("runtime", nlohmann::json()));
+      c.systems.push_back(std::move(s));
+    }
+    return c;
+  } catch (const std::exception& e) {
+    return Error{std::string("cell result: ") + e.what()};
+  }
+}
+
+std::string sweep_set_dir(const std::string& scene, uint64_t seed) {
+  return scene + "/seed" + std::to_string(seed);
+}
+
+namespace {
+
+struct Pooled {
+  double sum = 0, sum_sq = 0;
+  int64_t n = 0;
+  void add(const CellSystem& s) {
+    sum += s.mae_m * static_cast<double>(s.accuracy_count);
+    sum_sq += s.rmse_m * s.rmse_m * static_cast<double>(s.accuracy_count);
+    n += s.accuracy_count;
+  }
+  std::optional<double> mae() const { return n ? std::optional(sum / static_cast<double>(n)) : std::nullopt; }
+  std::optional<double> rmse() const {
+    return n ? std::optional(std::sqrt(sum_sq / static_cast<double>(n))) : std::nullopt;
+  }
+};
+
+struct AteStats {
+  std::vector<double> ratios;  // SLAM / DR per cell with both
+  int64_t slam_le_dr = 0, cells = 0;
+  void add(const CellResult& c) {
+    if (!c.ate_dr_m || !c.ate_slam_m) return;
+    ++cells;
+    if (*c.ate_slam_m <= *c.ate_dr_m) ++slam_le_dr;
+    if (*c.ate_dr_m > 0.0) ratios.push_back(*c.ate_slam_m / *c.ate_dr_m);
+  }
+  std::optional<double> median() const {
+    if (ratios.empty()) return std::nullopt;
+    auto v = ratios;
+    std::sort(v.begin(), v.end());
+    const size_t m = v.size() / 2;
+    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+  }
+};
+
+nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+std::string opt_fmt(const char* f, const std::optional<double>& v) { return v ? fmt(f, *v) : std::string("n/a"); }
+
+}  // namespace
+
+std::string seeds_markdown(const std::vector<SweepReport>& reports, const std::vector<uint64_t>& seeds) {
+  std::ostringstream md;
+  md << "# Sweep over seeds\n\nEach system's MAE / RMSE (m) pooled over the cells run; ATE: median SLAM/DR ratio and "
+        "the share of cells where SLAM ATE <= DR ATE.\n";
+  std::vector<std::string> scenes;
+  for (const auto& r : reports)
+    if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
+  for (const auto& scene : scenes) {
+    std::vector<std::string> names;
+    for (const auto& r : reports)
+      if (r.scene == scene)
+        for (const auto& n : system_names(r))
+          if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    md << "\n## " << scene << "\n\n| Seed |";
+    for (const auto& n : names) md << " " << n << " MAE | " << n << " RMSE |";
+    md << " SLAM/DR median | SLAM <= DR |\n|---|";
+    for (size_t i = 0; i < names.size(); ++i) md << "---|---|";
+    md << "---|---|\n";
+    std::map<std::string, Pooled> all;
+    AteStats all_ate;
+    for (size_t k = 0; k < reports.size(); ++k) {
+      const auto& r = reports[k];
+      if (r.scene != scene) continue;
+      md << "| " << seeds[k] << " |";
+      AteStats ate;
+      for (const auto& n : names) {
+        Pooled p;
+        for (const auto& c : r.cells)
+          if (const auto* s = find(c, n)) {
+            p.add(*s);
+            all[n].add(*s);
+          }
+        md << " " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " |";
+      }
+      for (const auto& c : r.cells) {
+        ate.add(c);
+        all_ate.add(c);
+      }
+      md << " " << opt_fmt("%.2f", ate.median()) << " | " << ate.slam_le_dr << "/" << ate.cells << " |\n";
+    }
+    md << "| pooled |";
+    for (const auto& n : names) md << " " << opt_fmt("%.3f", all[n].mae()) << " | " << opt_fmt("%.3f", all[n].rmse()) << " |";
+    md << " " << opt_fmt("%.2f", all_ate.median()) << " | " << all_ate.slam_le_dr << "/" << all_ate.cells << " |\n";
+  }
+  return md.str();
+}
+
+Status write_sweep_set(const std::vector<SweepReport>& reports, const std::vector<uint64_t>& seeds,
+                       const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  if (reports.size() != seeds.size()) return Error{"write_sweep_set: one seed per report expected"};
+  nlohmann::json j;
+  j["sweeps"] = nlohmann::json::array();
+  std::map<std::string, std::map<std::string, Pooled>> pooled;
+  std::map<std::string, AteStats> pooled_ate;
+  for (size_t k = 0; k < reports.size(); ++k) {
+    const auto& r = reports[k];
+    const fs::path dir = fs::path(out_dir) / sweep_set_dir(r.scene, seeds[k]);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) return Error{"cannot create '" + dir.string() + "': " + ec.message()};
+    if (Status s = write_sweep_outputs(r, dir.string()); !s.ok()) return s;
+    nlohmann::json e = {{"scene", r.scene}, {"seed", seeds[k]}, {"dir", sweep_set_dir(r.scene, seeds[k])}};
+    AteStats ate;
+    for (const auto& n : system_names(r)) {
+      Pooled p;
+      for (const auto& c : r.cells)
+        if (const auto* s = find(c, n)) {
+          p.add(*s);
+          pooled[r.scene][n].add(*s);
+        }
+      e["systems"][n] = {{"mae_m", opt_json(p.mae())}, {"rmse_m", opt_json(p.rmse())}, {"points", p.n}};
+    }
+    for (const auto& c : r.cells) {
+      ate.add(c);
+      pooled_ate[r.scene].add(c);
+    }
+    e["ate"] = {{"median_slam_dr_ratio", opt_json(ate.median())}, {"slam_le_dr", ate.slam_le_dr}, {"cells", ate.cells}};
+    j["sweeps"].push_back(e);
+  }
+  for (const auto& [scene, systems] : pooled) {
+    for (const auto& [n, p] : systems)
+      j["pooled"][scene]["systems"][n] = {{"mae_m", opt_json(p.mae())}, {"rmse_m", opt_json(p.rmse())}, {"points", p.n}};
+    const auto& a = pooled_ate[scene];
+    j["pooled"][scene]["ate"] = {{"median_slam_dr_ratio", opt_json(a.median())}, {"slam_le_dr", a.slam_le_dr},
+                                 {"cells", a.cells}};
+  }
+  auto write = [](const fs::path& p, const std::string& text) -> Status {
+    std::ofstream f(p, std::ios::trunc);
+    if (!f) return Error{"cannot open '" + p.string() + "' for writing"};
+    f << text;
+    return f ? Status{} : Status{Error{"write failed for '" + p.string() + "'"}};
+  };
+  if (Status s = write(fs::path(out_dir) / "seeds.json", j.dump(2) + "\n"); !s.ok()) return s;
+  return write(fs::path(out_dir) / "seeds.md", seeds_markdown(reports, seeds));
 }
 
 }  // namespace orthosonar::run

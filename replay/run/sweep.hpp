@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/mapping/pipeline.hpp"
 #include "core/mesh.hpp"
 #include "replay/run/run.hpp"
@@ -23,6 +25,13 @@ struct GridCell {
 };
 // Distances 1..5 m x rotations 30/60/90 deg, rotation-major.
 std::vector<GridCell> paper_grid();
+// "all" (the paper grid) or a comma-separated list of DISTANCE/ROTATION cells such as
+// "1/30,3/30,5/90", returned in paper-grid order without duplicates. Errors name the item.
+Result<std::vector<GridCell>> parse_cells(const std::string& spec);
+// "3m30" for 3 m / 30 deg: a cell's name in files and messages.
+std::string cell_name(const GridCell& cell);
+// Seeds as "1-5", "1,3,7" or "2": ascending, no duplicates. Errors name the item.
+Result<std::vector<uint64_t>> parse_seeds(const std::string& spec);
 
 struct PreparedSweep {
   std::map<std::string, std::string> metadata;
@@ -77,7 +86,28 @@ struct SweepReport {
   mapping::RuntimeStats inference_runtime;  // inference per frame (the preparation pass)
 };
 SweepReport make_sweep_report(const PreparedSweep& prepared, std::vector<CellResult> cells);
+// The deterministic tables (coverage grid, Table II, ATE per cell): a pure function of the
+// fixture, the configuration and the cells, byte-identical on every machine.
 std::string sweep_tables_markdown(const SweepReport& report);
+// Timings (paper Table III layout): machine-dependent, kept apart from the tables.
+std::string sweep_runtime_markdown(const SweepReport& report);
+// Writes grid.json, grid.csv and tables.md (deterministic: the same bytes however the cells
+// were run, one machine or a batch of shards), and runtime.json + runtime.md (timings).
 Status write_sweep_outputs(const SweepReport& report, const std::string& out_dir);
+
+// A cell's result as JSON and back (exact: doubles round-trip), for batch shards.
+nlohmann::json cell_result_to_json(const CellResult& c);
+Result<CellResult> cell_result_from_json(const nlohmann::json& j);
+nlohmann::json runtime_stats_to_json(const mapping::RuntimeStats& s);
+mapping::RuntimeStats runtime_stats_from_json(const nlohmann::json& j);
+
+// Several (scene, seed) sweeps: each in <out>/<scene>/seed<N>/ (write_sweep_outputs), and
+// seeds.json + seeds.md in <out>: per scene, per seed and pooled over seeds, each system's
+// MAE/RMSE pooled over the cells, and the SLAM/DR ATE ratio (median, share of cells with
+// SLAM <= DR). Deterministic bytes. `seeds` holds one entry per report, same order.
+std::string sweep_set_dir(const std::string& scene, uint64_t seed);
+std::string seeds_markdown(const std::vector<SweepReport>& reports, const std::vector<uint64_t>& seeds);
+Status write_sweep_set(const std::vector<SweepReport>& reports, const std::vector<uint64_t>& seeds,
+                       const std::string& out_dir);
 
 }  // namespace orthosonar::run
