@@ -453,13 +453,28 @@ const std::string& executable_digest() {
   return digest;
 }
 
-Result<std::string> task_key(const Plan& plan, const Task& task) {
+Result<std::string> task_key(const Plan& plan, const Task& task, const json* known, json* inputs) {
   json k = {{"kind", plan.kind}, {"common", plan.common}, {"task", task.spec}, {"orthosonar", executable_digest()}};
   // The bytes of every input file, not its name: an edited fixture or scenario is new work.
   auto add_file = [&](const std::string& label, const std::string& path) -> Status {
-    auto d = replay::sha256_file_hex(path);
-    if (!d.ok()) return d.error();
-    k["inputs"][label] = *d;
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (ec) return Error{"cannot read '" + path + "': " + ec.message()};
+    const auto mtime = static_cast<int64_t>(fs::last_write_time(path, ec).time_since_epoch().count());
+    std::string digest;
+    if (known && known->is_object() && known->contains(label)) {
+      const json& r = (*known)[label];
+      if (r.value("path", std::string()) == path && r.value("size", uint64_t{0}) == size &&
+          r.value("mtime_ns", int64_t{0}) == mtime)
+        digest = r.value("sha256", std::string());
+    }
+    if (digest.empty()) {
+      auto d = replay::sha256_file_hex(path);
+      if (!d.ok()) return d.error();
+      digest = *d;
+    }
+    k["inputs"][label] = digest;
+    if (inputs) (*inputs)[label] = {{"path", path}, {"size", size}, {"mtime_ns", mtime}, {"sha256", digest}};
     return {};
   };
   if (plan.kind == "verify") {
@@ -489,7 +504,10 @@ int run_task(const Plan& plan, size_t index, const RunTaskOptions& o) {
   const std::string label = "task " + std::to_string(index) + " (" + task.name + ")";
   const fs::path dir = result_dir(plan, index);
   std::error_code ec;
-  auto key = task_key(plan, task);
+  json old_inputs;
+  if (auto old = read_json_file((dir / "result.json").string()); old.ok()) old_inputs = old->value("inputs", json());
+  json inputs = json::object();
+  auto key = task_key(plan, task, &old_inputs, &inputs);
   auto fail = [&](const std::string& message) {
     std::cerr << "orthosonar batch run: " << label << ": " << message << "\n";
     fs::remove_all(dir, ec);
@@ -515,7 +533,7 @@ int run_task(const Plan& plan, size_t index, const RunTaskOptions& o) {
   fs::remove_all(tmp, ec);
   fs::create_directories(tmp, ec);
   if (ec) return fail("cannot create '" + tmp.string() + "': " + ec.message());
-  json result = {{"task", index}, {"name", task.name}, {"kind", plan.kind}, {"key", *key}};
+  json result = {{"task", index}, {"name", task.name}, {"kind", plan.kind}, {"key", *key}, {"inputs", inputs}};
   const auto t0 = std::chrono::steady_clock::now();
   Status st;
   try {
@@ -559,7 +577,8 @@ TaskStatus task_status(const Plan& plan, const Task& task, bool check_keys) {
     auto r = read_json_file((dir / "result.json").string());
     if (!r.ok()) return {TaskState::kMissing, r.error().message};
     if (check_keys) {
-      auto key = task_key(plan, task);
+      const json known = r->value("inputs", json());
+      auto key = task_key(plan, task, &known);
       if (!key.ok()) return {TaskState::kStale, "cannot compute its key: " + key.error().message};
       if (r->value("key", std::string()) != *key)
         return {TaskState::kStale, "the result was made from other inputs or another orthosonar build"};
@@ -604,10 +623,14 @@ struct Gathered {
 Gathered gather(const Plan& plan) {
   Gathered g;
   for (const auto& t : plan.tasks) {
-    const TaskStatus st = task_status(plan, t, true);
+    TaskStatus st = task_status(plan, t, true);
     if (st.state == TaskState::kDone) {
-      g.results.push_back(read_json_file((fs::path(result_dir(plan, t.index)) / "result.json").string()).value());
-      continue;
+      auto r = read_json_file((fs::path(result_dir(plan, t.index)) / "result.json").string());
+      if (r.ok()) {
+        g.results.push_back(std::move(*r));
+        continue;
+      }
+      st = {TaskState::kMissing, r.error().message};  // removed or rewritten meanwhile
     }
     g.results.push_back(std::nullopt);
     g.problems.push_back("task " + std::to_string(t.index) + " (" + t.name + "): " + state_name(st.state) + ": " +

@@ -86,7 +86,12 @@ std::string log_path(const Plan& plan, size_t index);
 
 // SHA-256 of the running executable (/proc/self/exe), computed once.
 const std::string& executable_digest();
-Result<std::string> task_key(const Plan& plan, const Task& task);
+// The task's key. `known` (a result's "inputs": label -> {path, size, mtime_ns, sha256})
+// lets an input file whose path, size and modification time are unchanged reuse its
+// recorded digest instead of being read again (a regression suite's fixtures are large);
+// `inputs` receives the same record for this key.
+Result<std::string> task_key(const Plan& plan, const Task& task, const nlohmann::json* known = nullptr,
+                             nlohmann::json* inputs = nullptr);
 
 struct RunTaskOptions {
   int threads = 1;
