@@ -12,17 +12,32 @@
 namespace orthosonar::replay {
 namespace {
 
+// Incremental SHA-256. A failure inside OpenSSL (a programmer-level fault: OpenSSL itself
+// is broken) makes ok() false and finish() empty.
+class Sha256 {
+ public:
+  Sha256() : ctx_(EVP_MD_CTX_new(), EVP_MD_CTX_free) {
+    ok_ = ctx_ && EVP_DigestInit_ex(ctx_.get(), EVP_sha256(), nullptr) == 1;
+  }
+  void update(const void* data, size_t size) { ok_ = ok_ && EVP_DigestUpdate(ctx_.get(), data, size) == 1; }
+  std::vector<uint8_t> finish() {
+    std::vector<uint8_t> md(EVP_MAX_MD_SIZE);
+    unsigned int len = 0;
+    ok_ = ok_ && EVP_DigestFinal_ex(ctx_.get(), md.data(), &len) == 1;
+    md.resize(ok_ ? len : 0);
+    return md;
+  }
+  bool ok() const { return ok_; }
+
+ private:
+  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx_;
+  bool ok_ = false;
+};
+
 std::vector<uint8_t> sha256(const uint8_t* data, size_t size) {
-  std::vector<uint8_t> md(EVP_MAX_MD_SIZE);
-  unsigned int len = 0;
-  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
-  // Failures here mean OpenSSL itself is broken: a programmer-level fault.
-  const bool ok = ctx && EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) == 1 &&
-                  EVP_DigestUpdate(ctx.get(), data, size) == 1 &&
-                  EVP_DigestFinal_ex(ctx.get(), md.data(), &len) == 1;
-  if (!ok) len = 0;
-  md.resize(len);
-  return md;
+  Sha256 h;
+  h.update(data, size);
+  return h.finish();
 }
 
 std::string to_hex(const std::vector<uint8_t>& b) {
@@ -71,20 +86,15 @@ std::string sha256_hex(const uint8_t* data, size_t size) { return to_hex(sha256(
 Result<std::string> sha256_file_hex(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) return Error{"cannot open '" + path + "'"};
-  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
-  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) return Error{"sha256: OpenSSL failed"};
+  Sha256 h;
   std::vector<char> buf(1 << 20);
   while (f) {
     f.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    const auto n = f.gcount();
-    if (n > 0 && EVP_DigestUpdate(ctx.get(), buf.data(), static_cast<size_t>(n)) != 1)
-      return Error{"sha256: OpenSSL failed"};
+    if (const auto n = f.gcount(); n > 0) h.update(buf.data(), static_cast<size_t>(n));
   }
   if (f.bad()) return Error{"read error in '" + path + "'"};
-  std::vector<uint8_t> md(EVP_MAX_MD_SIZE);
-  unsigned int len = 0;
-  if (EVP_DigestFinal_ex(ctx.get(), md.data(), &len) != 1) return Error{"sha256: OpenSSL failed"};
-  md.resize(len);
+  const auto md = h.finish();
+  if (!h.ok()) return Error{"sha256 of '" + path + "': OpenSSL failed"};
   return to_hex(md);
 }
 

@@ -39,13 +39,10 @@ int fail(const std::string& what, const std::string& m) {
   return 2;
 }
 
+// An option's file, or nothing when the option was not given.
 Result<std::string> read_file_text(const std::string& path) {
   if (path.empty()) return std::string();
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return Error{"cannot open '" + path + "'"};
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+  return read_text(path);
 }
 
 int default_threads() {

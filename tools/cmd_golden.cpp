@@ -430,15 +430,6 @@ int do_update(const std::vector<std::string>& paths, bool images, const fs::path
   return 0;
 }
 
-std::vector<std::string> default_scenarios() {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator("golden/scenarios", ec))
-    if (e.path().extension() == ".yaml") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 struct GoldenArgs {
   std::string run;
   bool check = false, update = false;
@@ -451,7 +442,7 @@ struct GoldenArgs {
 
 int run_golden(GoldenArgs a) {
   if (!a.run.empty()) return do_run(a.run, a.out_dir, a.threads);
-  if (a.scenarios.empty()) a.scenarios = default_scenarios();
+  if (a.scenarios.empty()) a.scenarios = default_golden_scenarios();
   if (a.scenarios.empty()) {
     std::cerr << "orthosonar golden: no scenarios given and none in golden/scenarios/ (run from the repository root)\n";
     return 2;

@@ -13,9 +13,11 @@
 #include <sstream>
 
 #include "hal/sim/scene.hpp"
+#include "reports/html.hpp"
 #include "replay/digest.hpp"
 #include "replay/run/mission.hpp"
 #include "replay/run/sweep.hpp"
+#include "tools/support_golden_images.hpp"
 #include "tools/support_process.hpp"
 #include "tools/support_run_args.hpp"
 #include "tools/support_sweep_report.hpp"
@@ -34,6 +36,8 @@ std::string absolute(const std::string& p) {
   return (ec ? fs::path(p) : a).lexically_normal().string();
 }
 
+}  // namespace
+
 Result<std::string> read_text(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) return Error{"cannot open '" + path + "'"};
@@ -41,6 +45,8 @@ Result<std::string> read_text(const std::string& path) {
   ss << f.rdbuf();
   return ss.str();
 }
+
+namespace {
 
 Status write_text(const fs::path& path, const std::string& text) {
   std::ofstream f(path, std::ios::trunc | std::ios::binary);
@@ -334,15 +340,9 @@ Result<Plan> plan_verify(const VerifyPlanSpec& s, const std::string& dir) {
 }
 
 Result<Plan> plan_golden(const GoldenPlanSpec& s, const std::string& dir) {
-  std::vector<std::string> paths = s.scenarios;
-  if (paths.empty()) {
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator("golden/scenarios", ec))
-      if (e.path().extension() == ".yaml") paths.push_back(e.path().string());
-    std::sort(paths.begin(), paths.end());
-    if (paths.empty())
-      return Error{"golden plan: no scenarios given and none in golden/scenarios/ (run from the repository root)"};
-  }
+  const std::vector<std::string> paths = s.scenarios.empty() ? default_golden_scenarios() : s.scenarios;
+  if (paths.empty())
+    return Error{"golden plan: no scenarios given and none in golden/scenarios/ (run from the repository root)"};
   Plan p;
   p.dir = absolute(dir);
   p.kind = "golden";
@@ -504,8 +504,9 @@ int run_task(const Plan& plan, size_t index, const RunTaskOptions& o) {
   const std::string label = "task " + std::to_string(index) + " (" + task.name + ")";
   const fs::path dir = result_dir(plan, index);
   std::error_code ec;
-  json old_inputs;
-  if (auto old = read_json_file((dir / "result.json").string()); old.ok()) old_inputs = old->value("inputs", json());
+  json earlier;  // the result of an earlier run, if any
+  if (auto old = read_json_file((dir / "result.json").string()); old.ok() && old->is_object()) earlier = std::move(*old);
+  const json old_inputs = earlier.is_object() ? earlier.value("inputs", json()) : json();
   json inputs = json::object();
   auto key = task_key(plan, task, &old_inputs, &inputs);
   auto fail = [&](const std::string& message) {
@@ -518,12 +519,9 @@ int run_task(const Plan& plan, size_t index, const RunTaskOptions& o) {
     return 2;
   };
   if (!key.ok()) return fail(key.error().message);
-  if (!o.force) {
-    auto old = read_json_file((dir / "result.json").string());
-    if (old.ok() && old->value("key", std::string()) == *key) {
-      std::cerr << "batch: " << label << ": result is current (same inputs), skipped\n";
-      return 0;
-    }
+  if (!o.force && earlier.is_object() && earlier.value("key", std::string()) == *key) {
+    std::cerr << "batch: " << label << ": result is current (same inputs), skipped\n";
+    return 0;
   }
   std::cerr << "batch: " << label << ": attempt " << o.attempt << " on " << host_name() << ", " << o.threads
             << " thread(s)\n";
@@ -596,21 +594,12 @@ TaskStatus task_status(const Plan& plan, const Task& task, bool check_keys) {
 }
 
 std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (unsigned char ch : s) {
-    switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default:
-        // XML 1.0 allows tab, newline, carriage return and nothing else below 0x20.
-        if (ch < 0x20 && ch != '\t' && ch != '\n' && ch != '\r') out += "?";
-        else out += static_cast<char>(ch);
-    }
-  }
-  return out;
+  // XML 1.0 allows tab, newline, carriage return and nothing else below 0x20; the five
+  // markup characters are escaped as for HTML (&#39; is XML's too).
+  std::string text = s;
+  for (char& ch : text)
+    if (static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\n' && ch != '\r') ch = '?';
+  return reports::html_escape(text);
 }
 
 namespace {

@@ -117,6 +117,9 @@ std::string state_name(TaskState s);
 // (named on stderr with their log paths; JUnit still written for verify/golden).
 int merge(const Plan& plan, const std::string& out_dir);
 
+// A file's whole content. Errors name the file.
+Result<std::string> read_text(const std::string& path);
+
 // JUnit XML text escaping (attributes and text).
 std::string xml_escape(const std::string& s);
 

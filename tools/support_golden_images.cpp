@@ -1,5 +1,6 @@
 #include "tools/support_golden_images.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
@@ -65,6 +66,15 @@ Status write_png(const std::string& path, const cv::Mat& image) {
   }
   if (!ok) return Error{path + ": cannot write PNG"};
   return Status::Ok();
+}
+
+std::vector<std::string> default_golden_scenarios() {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator("golden/scenarios", ec))
+    if (e.path().extension() == ".yaml") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace orthosonar::cli

@@ -25,6 +25,10 @@ namespace orthosonar::cli {
 // passes up to the size of ~180 of the 172800 pixels turned white (200 score 0.00053-0.00056).
 inline constexpr double kDefaultImageDifference = 0.0005;
 
+// golden/scenarios/*.yaml relative to the working directory (the repository root), sorted;
+// empty when there are none. `golden --check` and `batch plan golden` default to these.
+std::vector<std::string> default_golden_scenarios();
+
 struct GoldenImageConfig {
   // Rendered at render_*_px, then area-downscaled to the stored *_px. The legend, colour
   // bar and title have fixed pixel sizes, so rendering larger keeps them from covering

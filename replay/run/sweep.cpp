@@ -226,6 +226,70 @@ std::string fmt(const char* f, double v) {
   return buf;
 }
 
+struct Pooled {
+  double sum = 0, sum_sq = 0;
+  int64_t n = 0;
+  void add(const CellSystem& s) {
+    sum += s.mae_m * static_cast<double>(s.accuracy_count);
+    sum_sq += s.rmse_m * s.rmse_m * static_cast<double>(s.accuracy_count);
+    n += s.accuracy_count;
+  }
+  std::optional<double> mae() const { return n ? std::optional(sum / static_cast<double>(n)) : std::nullopt; }
+  std::optional<double> rmse() const {
+    return n ? std::optional(std::sqrt(sum_sq / static_cast<double>(n))) : std::nullopt;
+  }
+};
+
+struct AteStats {
+  std::vector<double> ratios;  // SLAM / DR per cell with both
+  int64_t slam_le_dr = 0, cells = 0;
+  void add(const CellResult& c) {
+    if (!c.ate_dr_m || !c.ate_slam_m) return;
+    ++cells;
+    if (*c.ate_slam_m <= *c.ate_dr_m) ++slam_le_dr;
+    if (*c.ate_dr_m > 0.0) ratios.push_back(*c.ate_slam_m / *c.ate_dr_m);
+  }
+  std::optional<double> median() const {
+    if (ratios.empty()) return std::nullopt;
+    auto v = ratios;
+    std::sort(v.begin(), v.end());
+    const size_t m = v.size() / 2;
+    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+  }
+};
+
+nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+std::string opt_fmt(const char* f, const std::optional<double>& v) { return v ? fmt(f, *v) : std::string("n/a"); }
+
+
+// One system's points pooled over the report's cells (Table II and the seed tables).
+Pooled pooled_over_cells(const SweepReport& r, const std::string& name) {
+  Pooled p;
+  for (const auto& c : r.cells)
+    if (const auto* s = find(c, name)) p.add(*s);
+  return p;
+}
+
+mapping::RuntimeStats system_runtime(const SweepReport& r, const std::string& name) {
+  mapping::RuntimeStats st;
+  for (const auto& c : r.cells)
+    if (const auto* cs = find(c, name)) st.merge(cs->runtime);
+  return st;
+}
+
+mapping::RuntimeStats slam_runtime(const SweepReport& r) {
+  mapping::RuntimeStats st;
+  for (const auto& c : r.cells) st.merge(c.slam_runtime);
+  return st;
+}
+
+Status write_text(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::trunc);
+  if (!f) return Error{"cannot open '" + p.string() + "' for writing"};
+  f << text;
+  return f ? Status{} : Status{Error{"write failed for '" + p.string() + "'"}};
+}
+
 }  // namespace
 
 std::string sweep_tables_markdown(const SweepReport& r) {
@@ -249,16 +313,8 @@ std::string sweep_tables_markdown(const SweepReport& r) {
   }
   md << "Mapping error (m), pooled over the " << r.cells.size() << " cells (paper Table II layout).\n\n| System | MAE | RMSE |\n|---|---|---|\n";
   for (const auto& name : names) {
-    double sum = 0, sum_sq = 0;
-    int64_t n = 0;
-    for (const auto& c : r.cells)
-      if (const auto* s = find(c, name)) {
-        sum += s->mae_m * static_cast<double>(s->accuracy_count);
-        sum_sq += s->rmse_m * s->rmse_m * static_cast<double>(s->accuracy_count);
-        n += s->accuracy_count;
-      }
-    md << "| " << name << " | " << (n ? fmt("%.3f", sum / static_cast<double>(n)) : "n/a") << " | "
-       << (n ? fmt("%.3f", std::sqrt(sum_sq / static_cast<double>(n))) : "n/a") << " |\n";
+    const Pooled p = pooled_over_cells(r, name);
+    md << "| " << name << " | " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " |\n";
   }
   md << "\nATE per cell (m), DR / SLAM: ";
   for (const auto& c : r.cells)
@@ -280,15 +336,9 @@ std::string sweep_runtime_markdown(const SweepReport& r) {
   };
   row("Orthogonal sensor fusion (one pair)", r.fusion_runtime);
   if (r.inference_runtime.count > 0) row("Mapping inference (one frame, every pair once)", r.inference_runtime);
-  for (const auto& name : names) {
-    mapping::RuntimeStats s;
-    for (const auto& c : r.cells)
-      if (const auto* cs = find(c, name)) s.merge(cs->runtime);
-    row(name == "submap" ? "Submap construction (per timestep)" : name + " map update", s);
-  }
-  mapping::RuntimeStats slam;
-  for (const auto& c : r.cells) slam.merge(c.slam_runtime);
-  row("SLAM update (per keyframe)", slam);
+  for (const auto& name : names)
+    row(name == "submap" ? "Submap construction (per timestep)" : name + " map update", system_runtime(r, name));
+  row("SLAM update (per keyframe)", slam_runtime(r));
   md << "\nFusing every pair once took " << fmt("%.1f", r.fuse_wall_s) << " s wall.\n";
   return md.str();
 }
@@ -325,28 +375,15 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
   rt["scene"] = r.scene;
   rt["fusion"] = stats(r.fusion_runtime);
   if (r.inference_runtime.count > 0) rt["inference_per_frame"] = stats(r.inference_runtime);
-  mapping::RuntimeStats slam;
-  for (const auto& c : r.cells) slam.merge(c.slam_runtime);
-  rt["slam_update"] = stats(slam);
-  for (const auto& name : system_names(r)) {
-    mapping::RuntimeStats st;
-    for (const auto& c : r.cells)
-      if (const auto* cs = find(c, name)) st.merge(cs->runtime);
-    rt["systems"][name] = stats(st);
-  }
+  rt["slam_update"] = stats(slam_runtime(r));
+  for (const auto& name : system_names(r)) rt["systems"][name] = stats(system_runtime(r, name));
   rt["fuse_wall_s"] = r.fuse_wall_s;
   const fs::path out(out_dir);
-  auto write = [](const fs::path& p, const std::string& text) -> Status {
-    std::ofstream f(p, std::ios::trunc);
-    if (!f) return Error{"cannot open '" + p.string() + "' for writing"};
-    f << text;
-    return f ? Status{} : Status{Error{"write failed for '" + p.string() + "'"}};
-  };
-  if (Status s = write(out / "grid.json", j.dump(2) + "\n"); !s.ok()) return s;
-  if (Status s = write(out / "grid.csv", csv.str()); !s.ok()) return s;
-  if (Status s = write(out / "tables.md", sweep_tables_markdown(r)); !s.ok()) return s;
-  if (Status s = write(out / "runtime.json", rt.dump(2) + "\n"); !s.ok()) return s;
-  return write(out / "runtime.md", sweep_runtime_markdown(r));
+  if (Status s = write_text(out / "grid.json", j.dump(2) + "\n"); !s.ok()) return s;
+  if (Status s = write_text(out / "grid.csv", csv.str()); !s.ok()) return s;
+  if (Status s = write_text(out / "tables.md", sweep_tables_markdown(r)); !s.ok()) return s;
+  if (Status s = write_text(out / "runtime.json", rt.dump(2) + "\n"); !s.ok()) return s;
+  return write_text(out / "runtime.md", sweep_runtime_markdown(r));
 }
 
 // ---- cell lists, seeds, shard results, sets of sweeps ----
@@ -490,98 +527,108 @@ std::string sweep_set_dir(const std::string& scene, uint64_t seed) {
 
 namespace {
 
-struct Pooled {
-  double sum = 0, sum_sq = 0;
-  int64_t n = 0;
-  void add(const CellSystem& s) {
-    sum += s.mae_m * static_cast<double>(s.accuracy_count);
-    sum_sq += s.rmse_m * s.rmse_m * static_cast<double>(s.accuracy_count);
-    n += s.accuracy_count;
-  }
-  std::optional<double> mae() const { return n ? std::optional(sum / static_cast<double>(n)) : std::nullopt; }
-  std::optional<double> rmse() const {
-    return n ? std::optional(std::sqrt(sum_sq / static_cast<double>(n))) : std::nullopt;
-  }
+// The seed tables' numbers, computed once for seeds.md and seeds.json: per report (one
+// scene and seed) each system pooled over its cells and its ATE ratios, and per scene the
+// same pooled over its seeds. Points are added cell by cell in report order, for both.
+struct SeedRow {
+  std::map<std::string, Pooled> systems;  // the report's systems
+  AteStats ate;
+};
+struct SceneSeeds {
+  std::string scene;
+  std::vector<std::string> names;  // every system any of its reports has, first seen first
+  std::vector<size_t> reports;     // indices, in report order
+  std::map<std::string, Pooled> pooled;
+  AteStats ate;
+};
+struct SeedSummary {
+  std::vector<SeedRow> rows;      // one per report
+  std::vector<SceneSeeds> scenes;  // first seen first
 };
 
-struct AteStats {
-  std::vector<double> ratios;  // SLAM / DR per cell with both
-  int64_t slam_le_dr = 0, cells = 0;
-  void add(const CellResult& c) {
-    if (!c.ate_dr_m || !c.ate_slam_m) return;
-    ++cells;
-    if (*c.ate_slam_m <= *c.ate_dr_m) ++slam_le_dr;
-    if (*c.ate_dr_m > 0.0) ratios.push_back(*c.ate_slam_m / *c.ate_dr_m);
+SeedSummary summarise_seeds(const std::vector<SweepReport>& reports) {
+  SeedSummary out;
+  for (size_t k = 0; k < reports.size(); ++k) {
+    const auto& r = reports[k];
+    auto sc = std::find_if(out.scenes.begin(), out.scenes.end(), [&](const SceneSeeds& x) { return x.scene == r.scene; });
+    if (sc == out.scenes.end()) {
+      out.scenes.push_back({r.scene, {}, {}, {}, {}});
+      sc = std::prev(out.scenes.end());
+    }
+    sc->reports.push_back(k);
+    SeedRow row;
+    for (const auto& n : system_names(r)) {
+      if (std::find(sc->names.begin(), sc->names.end(), n) == sc->names.end()) sc->names.push_back(n);
+      Pooled& p = row.systems[n];
+      for (const auto& c : r.cells)
+        if (const auto* s = find(c, n)) {
+          p.add(*s);
+          sc->pooled[n].add(*s);
+        }
+    }
+    for (const auto& c : r.cells) {
+      row.ate.add(c);
+      sc->ate.add(c);
+    }
+    out.rows.push_back(std::move(row));
   }
-  std::optional<double> median() const {
-    if (ratios.empty()) return std::nullopt;
-    auto v = ratios;
-    std::sort(v.begin(), v.end());
-    const size_t m = v.size() / 2;
-    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-  }
-};
+  return out;
+}
 
-nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
-std::string opt_fmt(const char* f, const std::optional<double>& v) { return v ? fmt(f, *v) : std::string("n/a"); }
+std::string seeds_markdown(const SeedSummary& sum, const std::vector<uint64_t>& seeds) {
+  std::ostringstream md;
+  md << "# Sweep over seeds\n\nEach system's MAE / RMSE (m) pooled over the cells run; ATE: median SLAM/DR ratio and "
+        "the share of cells where SLAM ATE <= DR ATE.\n";
+  auto cells = [&](const Pooled& p) { md << " " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " |"; };
+  auto ate = [&](const AteStats& a) {
+    md << " " << opt_fmt("%.2f", a.median()) << " | " << a.slam_le_dr << "/" << a.cells << " |\n";
+  };
+  for (const auto& sc : sum.scenes) {
+    md << "\n## " << sc.scene << "\n\n| Seed |";
+    for (const auto& n : sc.names) md << " " << n << " MAE | " << n << " RMSE |";
+    md << " SLAM/DR median | SLAM <= DR |\n|---|";
+    for (size_t i = 0; i < sc.names.size(); ++i) md << "---|---|";
+    md << "---|---|\n";
+    for (const size_t k : sc.reports) {
+      md << "| " << seeds[k] << " |";
+      const auto& row = sum.rows[k];
+      for (const auto& n : sc.names) {
+        const auto it = row.systems.find(n);
+        cells(it == row.systems.end() ? Pooled{} : it->second);
+      }
+      ate(row.ate);
+    }
+    md << "| pooled |";
+    for (const auto& n : sc.names) {
+      const auto it = sc.pooled.find(n);
+      cells(it == sc.pooled.end() ? Pooled{} : it->second);
+    }
+    ate(sc.ate);
+  }
+  return md.str();
+}
+
+nlohmann::json pooled_json(const Pooled& p) {
+  return {{"mae_m", opt_json(p.mae())}, {"rmse_m", opt_json(p.rmse())}, {"points", p.n}};
+}
+
+nlohmann::json ate_json(const AteStats& a) {
+  return {{"median_slam_dr_ratio", opt_json(a.median())}, {"slam_le_dr", a.slam_le_dr}, {"cells", a.cells}};
+}
 
 }  // namespace
 
 std::string seeds_markdown(const std::vector<SweepReport>& reports, const std::vector<uint64_t>& seeds) {
-  std::ostringstream md;
-  md << "# Sweep over seeds\n\nEach system's MAE / RMSE (m) pooled over the cells run; ATE: median SLAM/DR ratio and "
-        "the share of cells where SLAM ATE <= DR ATE.\n";
-  std::vector<std::string> scenes;
-  for (const auto& r : reports)
-    if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
-  for (const auto& scene : scenes) {
-    std::vector<std::string> names;
-    for (const auto& r : reports)
-      if (r.scene == scene)
-        for (const auto& n : system_names(r))
-          if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
-    md << "\n## " << scene << "\n\n| Seed |";
-    for (const auto& n : names) md << " " << n << " MAE | " << n << " RMSE |";
-    md << " SLAM/DR median | SLAM <= DR |\n|---|";
-    for (size_t i = 0; i < names.size(); ++i) md << "---|---|";
-    md << "---|---|\n";
-    std::map<std::string, Pooled> all;
-    AteStats all_ate;
-    for (size_t k = 0; k < reports.size(); ++k) {
-      const auto& r = reports[k];
-      if (r.scene != scene) continue;
-      md << "| " << seeds[k] << " |";
-      AteStats ate;
-      for (const auto& n : names) {
-        Pooled p;
-        for (const auto& c : r.cells)
-          if (const auto* s = find(c, n)) {
-            p.add(*s);
-            all[n].add(*s);
-          }
-        md << " " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " |";
-      }
-      for (const auto& c : r.cells) {
-        ate.add(c);
-        all_ate.add(c);
-      }
-      md << " " << opt_fmt("%.2f", ate.median()) << " | " << ate.slam_le_dr << "/" << ate.cells << " |\n";
-    }
-    md << "| pooled |";
-    for (const auto& n : names) md << " " << opt_fmt("%.3f", all[n].mae()) << " | " << opt_fmt("%.3f", all[n].rmse()) << " |";
-    md << " " << opt_fmt("%.2f", all_ate.median()) << " | " << all_ate.slam_le_dr << "/" << all_ate.cells << " |\n";
-  }
-  return md.str();
+  return seeds_markdown(summarise_seeds(reports), seeds);
 }
 
 Status write_sweep_set(const std::vector<SweepReport>& reports, const std::vector<uint64_t>& seeds,
                        const std::string& out_dir) {
   namespace fs = std::filesystem;
   if (reports.size() != seeds.size()) return Error{"write_sweep_set: one seed per report expected"};
+  const SeedSummary sum = summarise_seeds(reports);
   nlohmann::json j;
   j["sweeps"] = nlohmann::json::array();
-  std::map<std::string, std::map<std::string, Pooled>> pooled;
-  std::map<std::string, AteStats> pooled_ate;
   for (size_t k = 0; k < reports.size(); ++k) {
     const auto& r = reports[k];
     const fs::path dir = fs::path(out_dir) / sweep_set_dir(r.scene, seeds[k]);
@@ -590,38 +637,17 @@ Status write_sweep_set(const std::vector<SweepReport>& reports, const std::vecto
     if (ec) return Error{"cannot create '" + dir.string() + "': " + ec.message()};
     if (Status s = write_sweep_outputs(r, dir.string()); !s.ok()) return s;
     nlohmann::json e = {{"scene", r.scene}, {"seed", seeds[k]}, {"dir", sweep_set_dir(r.scene, seeds[k])}};
-    AteStats ate;
-    for (const auto& n : system_names(r)) {
-      Pooled p;
-      for (const auto& c : r.cells)
-        if (const auto* s = find(c, n)) {
-          p.add(*s);
-          pooled[r.scene][n].add(*s);
-        }
-      e["systems"][n] = {{"mae_m", opt_json(p.mae())}, {"rmse_m", opt_json(p.rmse())}, {"points", p.n}};
-    }
-    for (const auto& c : r.cells) {
-      ate.add(c);
-      pooled_ate[r.scene].add(c);
-    }
-    e["ate"] = {{"median_slam_dr_ratio", opt_json(ate.median())}, {"slam_le_dr", ate.slam_le_dr}, {"cells", ate.cells}};
+    for (const auto& [n, p] : sum.rows[k].systems) e["systems"][n] = pooled_json(p);
+    e["ate"] = ate_json(sum.rows[k].ate);
     j["sweeps"].push_back(e);
   }
-  for (const auto& [scene, systems] : pooled) {
-    for (const auto& [n, p] : systems)
-      j["pooled"][scene]["systems"][n] = {{"mae_m", opt_json(p.mae())}, {"rmse_m", opt_json(p.rmse())}, {"points", p.n}};
-    const auto& a = pooled_ate[scene];
-    j["pooled"][scene]["ate"] = {{"median_slam_dr_ratio", opt_json(a.median())}, {"slam_le_dr", a.slam_le_dr},
-                                 {"cells", a.cells}};
+  for (const auto& sc : sum.scenes) {
+    if (sc.pooled.empty()) continue;  // a scene whose reports have no cells
+    for (const auto& [n, p] : sc.pooled) j["pooled"][sc.scene]["systems"][n] = pooled_json(p);
+    j["pooled"][sc.scene]["ate"] = ate_json(sc.ate);
   }
-  auto write = [](const fs::path& p, const std::string& text) -> Status {
-    std::ofstream f(p, std::ios::trunc);
-    if (!f) return Error{"cannot open '" + p.string() + "' for writing"};
-    f << text;
-    return f ? Status{} : Status{Error{"write failed for '" + p.string() + "'"}};
-  };
-  if (Status s = write(fs::path(out_dir) / "seeds.json", j.dump(2) + "\n"); !s.ok()) return s;
-  return write(fs::path(out_dir) / "seeds.md", seeds_markdown(reports, seeds));
+  if (Status s = write_text(fs::path(out_dir) / "seeds.json", j.dump(2) + "\n"); !s.ok()) return s;
+  return write_text(fs::path(out_dir) / "seeds.md", seeds_markdown(sum, seeds));
 }
 
 }  // namespace orthosonar::run
