@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# `orthosonar perception-check` per image profile, beside a real Oculus ping (docs/PERCEPTION.md):
+#  1. both profiles (field, clean) and the real M1200d ping are in the JSON; the ping has 256
+#     beams and mean intensity 55.86 (testdata/oculus/README.md); the clean profile's water
+#     p99 is below the field's (h and v); the JSON is the same bytes on a second run;
+#  2. --fixture on a labelled fixture measures it as recorded (its profile, embedded scene);
+#  3. a fixture without labels, a bad --real-ping path, a bad --profile and an unknown scene
+#     exit 2 with a message naming the culprit.
+# Usage: perception_check_test.sh ORTHOSONAR SOURCE_DIR WORK_DIR
+set -euo pipefail
+exe=$1 src=$2 work=$3
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+ping=$src/testdata/oculus/m1200d_one_ping_8bit.raw
+short=(--scene harbor --resolution reduced --duration 6 --every 2)
+
+# jq when installed, else python3: jsonq FILE EXPR (a Python expression over `d`).
+jsonq() {
+  /usr/bin/python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); v=eval(sys.argv[2]); print(json.dumps(v) if not isinstance(v,str) else v)' "$1" "$2"
+}
+
+echo "== 1. both profiles and a real ping"
+"$exe" perception-check "${short[@]}" --profile both --real-ping "$ping" --json a.json >a.txt 2>a.err ||
+  fail "perception-check exited $?: $(cat a.err)"
+grep -q "^== profile field" a.txt || fail "no field section: $(cat a.txt)"
+grep -q "^== profile clean" a.txt || fail "no clean section"
+grep -q "label-free" a.txt || fail "no label-free section"
+grep -q "real m1200d_one_ping_8bit.raw" a.txt || fail "real ping row missing"
+if command -v jq >/dev/null; then
+  test "$(jq -r '[.profiles[].label] | join(",")' a.json)" = "field,clean" || fail "profiles: $(jq -c '[.profiles[].label]' a.json)"
+  test "$(jq -r '.real_pings | length' a.json)" = 1 || fail "real pings missing"
+  test "$(jq -r '.real_pings[0].beams' a.json)" = 256 || fail "beams $(jq '.real_pings[0].beams' a.json)"
+  jq -e '.real_pings[0].label_free.all.mean | . > 55.85 and . < 55.87' a.json >/dev/null ||
+    fail "real ping mean $(jq '.real_pings[0].label_free.all.mean' a.json), expected 55.86"
+  for m in h v; do
+    jq -e --arg m "$m" '(.profiles[] | select(.label=="clean") | .mounts[$m].label_based.water.p99) <
+                        (.profiles[] | select(.label=="field") | .mounts[$m].label_based.water.p99)' a.json >/dev/null ||
+      fail "$m: clean water p99 not below field's: $(jq -c --arg m "$m" '[.profiles[] | .mounts[$m].label_based.water.p99]' a.json)"
+  done
+  jq -e '.profiles[0].fusion | has("distance_to_mesh_m") and has("within_0_1m")' a.json >/dev/null || fail "fusion figures missing"
+  jq -e '.profiles[0].mounts.h.detections | has("precision_structure")' a.json >/dev/null || fail "structure precision missing"
+else
+  test "$(jsonq a.json '",".join(p["label"] for p in d["profiles"])')" = "field,clean" || fail "profiles"
+  test "$(jsonq a.json 'd["real_pings"][0]["beams"]')" = 256 || fail "beams"
+  test "$(jsonq a.json 'abs(d["real_pings"][0]["label_free"]["all"]["mean"] - 55.86) <= 0.01')" = true || fail "real ping mean"
+  for m in h v; do
+    test "$(jsonq a.json "[p for p in d['profiles'] if p['label']=='clean'][0]['mounts']['$m']['label_based']['water']['p99'] < [p for p in d['profiles'] if p['label']=='field'][0]['mounts']['$m']['label_based']['water']['p99']")" = true ||
+      fail "$m: clean water p99 not below field's"
+  done
+fi
+"$exe" perception-check "${short[@]}" --real-ping "$ping" --json b.json >/dev/null 2>&1 || fail "second run failed"
+cmp -s a.json b.json || fail "JSON differs between two identical runs"
+
+echo "== 2. --fixture on a labelled fixture"
+"$exe" simulate --scene harbor --labels --resolution reduced --duration 6 -q -o labelled.mcap || fail "simulate --labels failed"
+"$exe" perception-check --fixture labelled.mcap --every 2 --json f.json >f.txt 2>f.err ||
+  fail "--fixture exited $?: $(cat f.err)"
+grep -q "^== fixture labelled.mcap (profile field, as recorded)" f.txt || fail "fixture heading: $(head -3 f.txt)"
+test "$(jsonq f.json 'len(d["profiles"])')" = 1 || fail "fixture: expected one result"
+test "$(jsonq f.json 'd["profiles"][0]["profile"]')" = field || fail "fixture profile"
+# Same images as the simulated field run: the same label-based figures.
+test "$(jsonq f.json 'd["profiles"][0]["mounts"]')" = "$(jsonq a.json 'd["profiles"][0]["mounts"]')" ||
+  fail "fixture figures differ from the simulated field profile's"
+
+echo "== 3. errors exit 2 naming the culprit"
+"$exe" simulate --scene harbor --resolution reduced --duration 6 -q -o unlabelled.mcap || fail "simulate failed"
+set +e
+"$exe" perception-check --fixture unlabelled.mcap >/dev/null 2>e1.err; rc=$?
+test $rc = 2 || fail "unlabelled fixture: exit $rc, expected 2"
+grep -q "unlabelled.mcap" e1.err && grep -qi "label" e1.err || fail "unlabelled fixture message: $(cat e1.err)"
+"$exe" perception-check "${short[@]}" --real-ping no/such/ping.raw >/dev/null 2>e2.err; rc=$?
+test $rc = 2 || fail "bad --real-ping: exit $rc, expected 2"
+grep -q "no/such/ping.raw" e2.err || fail "bad --real-ping message: $(cat e2.err)"
+head -c 1000 "$ping" >cut.raw
+"$exe" perception-check "${short[@]}" --real-ping cut.raw >/dev/null 2>e3.err; rc=$?
+test $rc = 2 || fail "truncated --real-ping: exit $rc, expected 2"
+grep -q "cut.raw" e3.err || fail "truncated --real-ping message: $(cat e3.err)"
+"$exe" perception-check "${short[@]}" --profile murky >/dev/null 2>e4.err; rc=$?
+test $rc = 2 || fail "bad --profile: exit $rc, expected 2"
+grep -q "murky" e4.err || fail "bad --profile message: $(cat e4.err)"
+"$exe" perception-check --scene atlantis --resolution reduced --duration 6 >/dev/null 2>e5.err; rc=$?
+test $rc = 2 || fail "unknown scene: exit $rc, expected 2"
+grep -q "atlantis" e5.err || fail "unknown scene message: $(cat e5.err)"
+set -e
+echo "ok"
