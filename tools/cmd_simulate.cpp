@@ -27,6 +27,7 @@ struct SimulateArgs {
   std::string out;
   std::string export_mesh;
   std::string config_yaml;
+  std::string profile;  // field (default) or clean
   int threads = 2;
   std::string snapshot_dir;
   std::vector<double> snapshot_at_s;
@@ -41,6 +42,12 @@ int fail(const std::string& msg) {
 
 int run_simulate(const SimulateArgs& a) {
   sim::SimConfig cfg;
+  if (!a.profile.empty()) {  // before the config file, whose keys refine the profile
+    auto p = sim::parse_profile(a.profile);
+    if (!p) return fail(p.error().message);
+    cfg.profile = *p;
+    sim::apply_profile(cfg.sonar, cfg.profile);
+  }
   if (!a.config_yaml.empty())
     if (Status s = sim::load_sim_config_file(a.config_yaml, cfg); !s) return fail(s.error().message);
   cfg.duration_s = a.duration_s;
@@ -63,7 +70,9 @@ int run_simulate(const SimulateArgs& a) {
     double x = 0, y = 0, yaw_deg = 0;
     if (!(in >> x >> y >> yaw_deg)) return fail("--snapshot-pose expects 'x y yaw_deg'");
     if (a.snapshot_dir.empty()) return fail("--snapshot-pose needs --snapshot-dir");
-    const sim::SonarRenderer renderer(scene->mesh, cfg.sonar, cfg.resolution, cfg.seed);
+    sim::SonarModelConfig sonar = cfg.sonar;
+    sonar.seafloor_depth_m = scene->seafloor_depth_m;
+    const sim::SonarRenderer renderer(scene->mesh, sonar, cfg.resolution, cfg.seed);
     const SE3 T_W_V = se3_from_xyz_rpy(x, y, -scene->vehicle_depth_m, 0, 0, yaw_deg * std::numbers::pi / 180.0);
     std::filesystem::create_directories(a.snapshot_dir);
     for (auto mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
@@ -155,6 +164,7 @@ const bool registered = register_command(
        sub.add_option("-o,--out", a->out, "Fixture to write (.mcap)");
        sub.add_option("--export-mesh", a->export_mesh, "Write the ground-truth scene mesh (PLY)");
        sub.add_option("--config", a->config_yaml, "Simulator config YAML (fields of SimConfig)");
+       sub.add_option("--profile", a->profile, "Image formation: field (default: side lobes, multipath, seabed, absorption, TVG) or clean");
        sub.add_option("--threads", a->threads, "Render threads (output identical for any count)")->capture_default_str();
        sub.add_option("--snapshot-dir", a->snapshot_dir, "Write fan PNGs of the pings at --snapshot-at times here");
        sub.add_option("--snapshot-at", a->snapshot_at_s, "Mission times (s) for snapshots");

@@ -28,7 +28,7 @@ void BM_SimFullResPair(benchmark::State& state) {
     ++i;
   }
   state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  state.counters["rays_per_pair"] = static_cast<double>(2 * renderer.rays_per_ping());
+  state.counters["rays_per_pair"] = static_cast<double>(renderer.rays_per_ping(SonarMount::kHorizontal) + renderer.rays_per_ping(SonarMount::kVertical));
 }
 BENCHMARK(BM_SimFullResPair)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -19,13 +20,60 @@ Result<Resolution> parse_resolution(const std::string& s) {
   return Error{"resolution '" + s + "' is neither 'full' nor 'reduced'"};
 }
 
-SonarGeometry sonar_geometry(const SonarModelConfig& c, Resolution r) {
+SonarGeometry sonar_geometry(const SonarHead& h, Resolution r) {
   SonarGeometry g;
   const int div = r == Resolution::kFull ? 1 : 2;
-  g.beams = c.beams_full / div;
-  g.range_bins = c.range_bins_full / div;
-  g.range_resolution_m = c.max_range_m / g.range_bins;
+  g.beams = h.beams_full / div;
+  g.range_bins = h.range_bins_full / div;
+  g.range_resolution_m = h.max_range_m / g.range_bins;
   return g;
+}
+
+// Oculus data sheets: M750d 750 kHz 130 x 20 deg, 1.0 deg angular resolution, 512 beams,
+// 120 m; M1200d 1.2 MHz 130 x 20 deg, 0.6 deg, 512 beams, 30 m; 2.1 MHz 60 x 12 deg,
+// 0.4 deg, 512 beams, 10 m; up to 40 pings/s. The image keeps 600 range bins.
+SonarHead oculus_m750d_750khz() { return SonarHead{750e3, 130.0, 20.0, 1.0, 512, 600, 30.0, -1.0, 40.0}; }
+SonarHead oculus_m1200d_1200khz() { return SonarHead{1.2e6, 130.0, 20.0, 0.6, 512, 600, 30.0, -1.0, 40.0}; }
+SonarHead oculus_m1200d_2100khz() { return SonarHead{2.1e6, 60.0, 12.0, 0.4, 512, 600, 10.0, -1.0, 40.0}; }
+
+const char* profile_name(SonarProfile p) { return p == SonarProfile::kField ? "field" : "clean"; }
+
+Result<SonarProfile> parse_profile(const std::string& s) {
+  if (s == "field") return SonarProfile::kField;
+  if (s == "clean") return SonarProfile::kClean;
+  return Error{"profile '" + s + "' is neither 'field' nor 'clean'"};
+}
+
+void apply_profile(SonarModelConfig& c, SonarProfile p) {
+  const bool field = p == SonarProfile::kField;
+  c.noise_floor = field ? 0.00004 : 0.0003;
+  c.gain = 12.0;
+  c.beam_pattern = field;
+  c.surface_reflection = field ? 0.35 : 0.0;
+  c.seabed_reflection = 0.0;
+  c.seabed_lambert = field;
+  c.absorption_scale = field ? 1.0 : 0.0;
+  c.tvg_absorption_fraction = field ? 0.3 : 0.0;
+  c.noise_before_tvg = field;
+}
+
+double absorption_db_per_m(double f_hz, double T, double S, double pH, double depth_m) {
+  // Ainslie & McColm (1998), J. Acoust. Soc. Am. 103(3): boric acid, magnesium sulphate and
+  // pure water terms, dB/km with f in kHz and depth in km.
+  const double f = f_hz / 1000.0, z = depth_m / 1000.0, f2 = f * f;
+  const double f1 = 0.78 * std::sqrt(S / 35.0) * std::exp(T / 26.0);
+  const double fm = 42.0 * std::exp(T / 17.0);
+  const double boric = 0.106 * f1 * f2 / (f1 * f1 + f2) * std::exp((pH - 8.0) / 0.56);
+  const double mgso4 = 0.52 * (1.0 + T / 43.0) * (S / 35.0) * fm * f2 / (fm * fm + f2) * std::exp(-z / 6.0);
+  const double water = 0.00049 * f2 * std::exp(-(T / 27.0 + z / 17.0));
+  return (boric + mgso4 + water) / 1000.0;
+}
+
+double head_absorption_db_per_m(const SonarModelConfig& c, const SonarHead& h) {
+  const double a = h.absorption_db_per_m >= 0.0
+                       ? h.absorption_db_per_m
+                       : absorption_db_per_m(h.frequency_hz, c.water_temperature_c, c.salinity_ppt, c.water_ph, 0.0);
+  return a * c.absorption_scale;
 }
 
 namespace {
@@ -37,10 +85,24 @@ Setter set(T& field) {
   return [&field](const YAML::Node& n) { field = n.as<T>(); };
 }
 
+std::map<std::string, Setter> head_fields(SonarHead& h) {
+  return {{"frequency_hz", set(h.frequency_hz)}, {"swath_deg", set(h.swath_deg)},
+          {"aperture_deg", set(h.aperture_deg)}, {"beam_width_deg", set(h.beam_width_deg)},
+          {"beams_full", set(h.beams_full)}, {"range_bins_full", set(h.range_bins_full)},
+          {"max_range_m", set(h.max_range_m)}, {"absorption_db_per_m", set(h.absorption_db_per_m)},
+          {"max_ping_rate_hz", set(h.max_ping_rate_hz)}};
+}
+
+// Fields of both heads at once (`sonar: {max_range_m: 20}` sets both).
+template <class T>
+Setter set_both(T SonarHead::*field, SonarModelConfig& s) {
+  return [field, &s](const YAML::Node& n) { s.head_h.*field = s.head_v.*field = n.as<T>(); };
+}
+
 std::map<std::string, Setter> sonar_fields(SonarModelConfig& s) {
-  return {{"max_range_m", set(s.max_range_m)}, {"beams_full", set(s.beams_full)},
-          {"range_bins_full", set(s.range_bins_full)}, {"swath_deg", set(s.swath_deg)},
-          {"aperture_deg", set(s.aperture_deg)}, {"bearing_cubic", set(s.bearing_cubic)},
+  return {{"max_range_m", set_both(&SonarHead::max_range_m, s)}, {"beams_full", set_both(&SonarHead::beams_full, s)},
+          {"range_bins_full", set_both(&SonarHead::range_bins_full, s)}, {"swath_deg", set_both(&SonarHead::swath_deg, s)},
+          {"aperture_deg", set_both(&SonarHead::aperture_deg, s)}, {"bearing_cubic", set(s.bearing_cubic)},
           {"elevation_samples", set(s.elevation_samples)}, {"beam_samples", set(s.beam_samples)},
           {"beam_width_factor", set(s.beam_width_factor)},
           {"aperture_sigma_deg", set(s.aperture_sigma_deg)},
@@ -49,14 +111,29 @@ std::map<std::string, Setter> sonar_fields(SonarModelConfig& s) {
           {"speckle_looks", set(s.speckle_looks)}, {"noise_floor", set(s.noise_floor)},
           {"tvg_exponent", set(s.tvg_exponent)}, {"tvg_reference_m", set(s.tvg_reference_m)},
           {"gain", set(s.gain)}, {"gamma", set(s.gamma)}, {"gain_percent", set(s.gain_percent)},
-          {"frequency_h_hz", set(s.frequency_h_hz)}, {"frequency_v_hz", set(s.frequency_v_hz)},
+          {"frequency_h_hz", set(s.head_h.frequency_hz)}, {"frequency_v_hz", set(s.head_v.frequency_hz)},
+          {"beam_pattern", set(s.beam_pattern)}, {"side_lobe_db", set(s.side_lobe_db)},
+          {"side_lobe_floor_db", set(s.side_lobe_floor_db)},
+          {"surface_reflection", set(s.surface_reflection)}, {"seabed_reflection", set(s.seabed_reflection)},
+          {"seabed_lambert", set(s.seabed_lambert)}, {"seabed_mu", set(s.seabed_mu)},
+          {"seabed_texture", set(s.seabed_texture)}, {"seabed_texture_scale_m", set(s.seabed_texture_scale_m)},
+          {"seabed_relief_deg", set(s.seabed_relief_deg)}, {"seabed_relief_scale_m", set(s.seabed_relief_scale_m)},
+          {"absorption_scale", set(s.absorption_scale)},
+          {"tvg_absorption_fraction", set(s.tvg_absorption_fraction)},
+          {"noise_before_tvg", set(s.noise_before_tvg)}, {"water_temperature_c", set(s.water_temperature_c)},
+          {"salinity_ppt", set(s.salinity_ppt)}, {"water_ph", set(s.water_ph)},
+          {"vertical_mode", [](const YAML::Node&) {}},  // applied before the other keys
+          {"horizontal", [](const YAML::Node&) {}}, {"vertical", [](const YAML::Node&) {}},
           {"reflectivity", [&s](const YAML::Node& n) {
              for (const auto& kv : n) {
+               bool known = false;
                for (int c = 0; c < kSemanticClassCount; ++c) {
                  if (kv.first.as<std::string>() == semantic_class_name(static_cast<SemanticClass>(c))) {
                    s.reflectivity[static_cast<size_t>(c)] = kv.second.as<double>();
+                   known = true;
                  }
                }
+               if (!known) throw YAML::Exception(YAML::Mark::null_mark(), "unknown class '" + kv.first.as<std::string>() + "'");
              }
            }}};
 }
@@ -126,18 +203,44 @@ static Status apply_document(const std::string& yaml_text, SimConfig& c) {
     return Error{std::string("sim config: ") + e.what()};
   }
   if (root.IsNull()) return Status::Ok();
-  std::string resolution;
+  std::string resolution, profile;
   std::string T_V_h, T_V_v;
   std::map<std::string, Setter> top = {
       {"duration_s", set(c.duration_s)}, {"seed", set(c.seed)}, {"labels", set(c.labels)},
-      {"resolution", set(resolution)}, {"T_V_h", set(T_V_h)}, {"T_V_v", set(T_V_v)},
+      {"resolution", set(resolution)}, {"profile", set(profile)}, {"T_V_h", set(T_V_h)}, {"T_V_v", set(T_V_v)},
       {"device_id_h", set(c.device_id_h)}, {"device_id_v", set(c.device_id_v)},
       {"render_threads", set(c.render_threads)},
       {"sonar", [](const YAML::Node&) {}}, {"vehicle", [](const YAML::Node&) {}},
       {"nav", [](const YAML::Node&) {}}};
   if (auto s = apply_fields(root, top, ""); !s) return s;
+  if (!profile.empty()) {  // first: the keys below refine the profile
+    auto p = parse_profile(profile);
+    if (!p) return Error{"sim config: " + p.error().message};
+    c.profile = *p;
+    apply_profile(c.sonar, c.profile);
+  }
   if (root["sonar"]) {
-    if (auto s = apply_fields(root["sonar"], sonar_fields(c.sonar), "sonar."); !s) return s;
+    const YAML::Node sonar = root["sonar"];
+    if (sonar.IsMap() && sonar["vertical_mode"]) {
+      std::string mode;
+      try {
+        mode = sonar["vertical_mode"].as<std::string>();
+      } catch (const YAML::Exception&) {
+        return Error{"sim config: 'sonar.vertical_mode' must be 1.2MHz or 2.1MHz"};
+      }
+      if (mode == "1.2MHz") {
+        c.sonar.head_v = oculus_m1200d_1200khz();
+      } else if (mode == "2.1MHz") {
+        c.sonar.head_v = oculus_m1200d_2100khz();
+      } else {
+        return Error{"sim config: 'sonar.vertical_mode' is '" + mode + "', expected 1.2MHz or 2.1MHz"};
+      }
+    }
+    if (auto s = apply_fields(sonar, sonar_fields(c.sonar), "sonar."); !s) return s;
+    for (auto [key, head] : {std::pair{"horizontal", &c.sonar.head_h}, std::pair{"vertical", &c.sonar.head_v}}) {
+      if (!sonar[key]) continue;
+      if (auto s = apply_fields(sonar[key], head_fields(*head), std::string("sonar.") + key + "."); !s) return s;
+    }
   }
   if (root["vehicle"]) {
     if (auto s = apply_fields(root["vehicle"], vehicle_fields(c.vehicle), "vehicle."); !s) return s;
@@ -174,10 +277,35 @@ Status validate(const SimConfig& c) {
   if (!(c.duration_s > 0)) return Error{"sim config: duration_s must be > 0"};
   if (s.elevation_samples < 32) return Error{"sim config: sonar.elevation_samples must be >= 32"};
   if (s.beam_samples < 1) return Error{"sim config: sonar.beam_samples must be >= 1"};
-  if (s.beams_full < 4 || s.beams_full % 2 != 0 || s.range_bins_full < 4 || s.range_bins_full % 2 != 0)
-    return Error{"sim config: beams_full and range_bins_full must be even and >= 4"};
+  for (const SonarHead* h : {&s.head_h, &s.head_v}) {
+    const char* which = h == &s.head_h ? "sonar.horizontal" : "sonar.vertical";
+    if (h->beams_full < 4 || h->beams_full % 2 != 0 || h->range_bins_full < 4 || h->range_bins_full % 2 != 0 ||
+        h->beams_full > 4096 || h->range_bins_full > 8192)
+      return Error{std::string("sim config: ") + which + ": beams_full and range_bins_full must be even, >= 4 (<= 4096, 8192)"};
+    if (!(h->max_range_m > 0 && h->max_range_m <= 500 && h->swath_deg > 0 && h->swath_deg < 180 &&
+          h->aperture_deg > 0 && h->aperture_deg < 90 && h->frequency_hz > 1e3 && h->frequency_hz < 1e7 &&
+          h->beam_width_deg >= 0 && h->beam_width_deg < 30 && h->absorption_db_per_m < 100 && h->max_ping_rate_hz > 0))
+      return Error{std::string("sim config: ") + which +
+                   ": max_range_m in (0, 500], swath_deg in (0, 180), aperture_deg in (0, 90), frequency_hz in (1e3, 1e7), "
+                   "beam_width_deg in [0, 30), absorption_db_per_m < 100, max_ping_rate_hz > 0"};
+    // Two-way travel time: a ping to max range at 1500 m/s must finish before the next.
+    const double ceiling = std::min(h->max_ping_rate_hz, 1500.0 / (2.0 * h->max_range_m));
+    if (c.nav.ping_rate_hz > ceiling * (1.0 + 1e-9))
+      return Error{std::string("sim config: nav.ping_rate_hz exceeds ") + which + "'s ceiling (" +
+                   std::to_string(ceiling) + " Hz at its max_range_m)"};
+  }
   if (s.speckle_looks < 1 || s.speckle_looks > 16) return Error{"sim config: sonar.speckle_looks in 1..16"};
-  if (!(s.max_range_m > 0 && s.gamma > 0 && s.gain > 0)) return Error{"sim config: sonar max_range_m, gamma, gain must be > 0"};
+  if (!(s.gamma > 0 && s.gain > 0)) return Error{"sim config: sonar gamma, gain must be > 0"};
+  if (!(s.side_lobe_db < 0 && s.side_lobe_floor_db < s.side_lobe_db && s.side_lobe_floor_db >= -120))
+    return Error{"sim config: sonar.side_lobe_db must be < 0 and side_lobe_floor_db in [-120, side_lobe_db)"};
+  if (!(s.surface_reflection >= 0 && s.surface_reflection <= 1 && s.seabed_reflection >= 0 && s.seabed_reflection <= 1))
+    return Error{"sim config: sonar.surface_reflection and seabed_reflection in [0, 1]"};
+  if (!(s.seabed_mu >= 0 && s.seabed_texture >= 0 && s.seabed_texture <= 3 && s.seabed_texture_scale_m > 0 &&
+        s.seabed_relief_deg >= 0 && s.seabed_relief_deg < 45 && s.seabed_relief_scale_m > 0))
+    return Error{"sim config: sonar seabed_mu >= 0, seabed_texture in [0, 3], seabed_relief_deg in [0, 45), scales > 0"};
+  if (!(s.absorption_scale >= 0 && s.tvg_absorption_fraction >= 0 && s.tvg_absorption_fraction <= 1 &&
+        s.noise_floor >= 0 && s.tvg_reference_m > 0))
+    return Error{"sim config: sonar absorption_scale >= 0, tvg_absorption_fraction in [0, 1], noise_floor >= 0, tvg_reference_m > 0"};
   const auto& n = c.nav;
   for (double r : {n.imu_rate_hz, n.dvl_rate_hz, n.depth_rate_hz, n.ping_rate_hz}) {
     if (!(r > 0 && r <= 1000)) return Error{"sim config: sensor rates must be in (0, 1000] Hz"};

@@ -16,34 +16,83 @@ enum class Resolution { kFull, kReduced };
 const char* resolution_name(Resolution r);
 Result<Resolution> parse_resolution(const std::string& s);
 
-// Image formation of one Oculus-like sonar (both sonars share it).
-struct SonarModelConfig {
-  double max_range_m = 30.0;
-  int beams_full = 512;
-  int range_bins_full = 600;
+// One sonar head as the device is set up (docs/SCENES.md "Devices"). The image the
+// simulator writes has range_bins_full bins to max_range_m (the device's native range
+// resolution is finer; fusion only needs the image's own range_resolution_m).
+struct SonarHead {
+  double frequency_hz = 750e3;
   double swath_deg = 130.0;            // total horizontal field of view of the fan
   double aperture_deg = 20.0;          // across the fan
+  double beam_width_deg = 1.0;         // main lobe, two-way -3 dB (field profile; 0 = rectangular beams)
+  int beams_full = 512;
+  int range_bins_full = 600;
+  double max_range_m = 30.0;
+  double absorption_db_per_m = -1.0;   // one-way; < 0: from frequency and water (Ainslie & McColm 1998)
+  double max_ping_rate_hz = 40.0;      // the device's ceiling (the two-way travel time bounds it too)
+};
+// Oculus M750d in its 750 kHz mode; M1200d in its 1.2 MHz or 2.1 MHz mode.
+SonarHead oculus_m750d_750khz();
+SonarHead oculus_m1200d_1200khz();
+SonarHead oculus_m1200d_2100khz();
+
+// The image formation profile. kField models what real Oculus images show: beam
+// side lobes, surface multipath, Lambertian seabed with texture and relief, absorption, the
+// device's TVG lifting the noise floor with range. kClean is the earlier calibration: no
+// artefacts, a dark water column, range-independent noise. kClean stays the default until
+// perception is tuned for kField (issue 19).
+enum class SonarProfile { kField, kClean };
+const char* profile_name(SonarProfile p);
+Result<SonarProfile> parse_profile(const std::string& s);
+
+// Image formation of both Oculus sonars: shared physics and one SonarHead per mount.
+struct SonarModelConfig {
+  SonarHead head_h = oculus_m750d_750khz();
+  SonarHead head_v = oculus_m1200d_1200khz();
   // Bearing table non-uniformity: theta = half_swath * ((1 - c) u + c u^3), u uniform in [-1, 1].
   double bearing_cubic = 0.08;
   int elevation_samples = 32;          // stratified rays across the aperture (>= 32)
   int beam_samples = 3;                // rays across each beam's width
-  double beam_width_factor = 1.0;      // beam width as a multiple of the local beam spacing
-  double aperture_sigma_deg = 8.5;     // Gaussian elevation pattern (-3 dB near +-10 deg)
+  double beam_width_factor = 1.0;      // ray spread per beam as a multiple of the local beam spacing
+  double aperture_sigma_deg = 8.5;     // Gaussian elevation pattern (-3 dB near +-10 deg at 20 deg)
   double incidence_exponent = 1.0;     // k in cos(incidence)^k
   double spreading_exponent = 2.0;     // p in r^-p
   // Reflectivity per SemanticClass (index = class value).
   std::array<double, kSemanticClassCount> reflectivity = {0.0, 0.35, 0.9, 0.8, 0.85,
                                                           0.95, 0.75, 1.0, 0.6};
   int speckle_looks = 2;               // multiplicative speckle: Gamma(L, 1/L), mean 1
-  double noise_floor = 0.0003;         // additive noise (linear units, exponential intensity); docs/SCENES.md "Calibration"
+  double noise_floor = 0.0003;         // additive noise at tvg_reference_m (linear units, exponential intensity); docs/SCENES.md "Calibration" (field: 0.00004)
   double tvg_exponent = 2.0;           // time-varied gain r^q (q = p: range-independent targets)
   double tvg_reference_m = 10.0;       // range where the TVG is 1
   double gain = 12.0;                  // linear gain before quantisation
   double gamma = 0.5;                  // display gamma of the 8-bit image
   double gain_percent = 50.0;          // what the ping reports as its gain setting
-  double frequency_h_hz = 750e3;       // M750d low-frequency mode
-  double frequency_v_hz = 1.2e6;       // M1200d high-frequency mode
+  // --- field profile: apply_profile(kField) switches these on (the struct's defaults are the
+  // clean profile's, SimConfig::profile's default, until the field profile's tuning lands) ---
+  bool beam_pattern = false;           // azimuth beam pattern: main lobe of head.beam_width_deg + side lobes
+  double side_lobe_db = -28.0;         // first side-lobe peak, two-way, re the main lobe
+  double side_lobe_floor_db = -55.0;   // the pattern is truncated below this
+  double surface_reflection = 0.0;     // intensity reflection coefficient of the sea surface (z = 0)
+  double seabed_reflection = 0.0;      // of the seabed plane at the scene's seafloor depth (optional)
+  bool seabed_lambert = false;         // seafloor backscatter mu cos^2(theta) with texture and relief
+  double seabed_mu = 0.50;             // Lambert's mu (linear, same units as reflectivity)
+  double seabed_texture = 0.6;         // grain texture: log-normal sigma of the backscatter
+  double seabed_texture_scale_m = 0.4; // its correlation length
+  double seabed_relief_deg = 6.0;      // RMS slope of the relief (normal perturbation)
+  double seabed_relief_scale_m = 1.5;  // its correlation length
+  double absorption_scale = 0.0;       // multiplies each head's absorption (0 = none)
+  double tvg_absorption_fraction = 0.0;  // share of the two-way absorption the TVG gives back
+  bool noise_before_tvg = false;       // the noise floor is amplified by the TVG (rises with range)
+  double water_temperature_c = 12.0;   // for the absorption model
+  double salinity_ppt = 35.0;
+  double water_ph = 8.0;
+  double seafloor_depth_m = 0.0;       // set by the simulator from the scene (seabed multipath)
 };
+// Sets the fields a profile defines (noise floor, gain and the field-profile block).
+void apply_profile(SonarModelConfig& c, SonarProfile p);
+// Seawater absorption, dB/m, one-way (Ainslie & McColm 1998), frequency in Hz.
+double absorption_db_per_m(double frequency_hz, double temperature_c, double salinity_ppt, double ph, double depth_m);
+// The absorption a head applies (its explicit value, else the model's) times absorption_scale.
+double head_absorption_db_per_m(const SonarModelConfig& c, const SonarHead& h);
 
 struct VehicleConfig {
   double speed_mps = 0.4;              // 0.3-0.5 m/s
@@ -83,6 +132,7 @@ struct NavConfig {
 };
 
 struct SimConfig {
+  SonarProfile profile = SonarProfile::kClean;  // what apply_profile gave `sonar` (YAML: profile)
   double duration_s = 60.0;
   uint64_t seed = 1;                   // noise seed (scene geometry has its own seed)
   Resolution resolution = Resolution::kFull;
@@ -103,10 +153,13 @@ struct SonarGeometry {
   int range_bins = 600;
   double range_resolution_m = 0.05;
 };
-SonarGeometry sonar_geometry(const SonarModelConfig& c, Resolution r);
+SonarGeometry sonar_geometry(const SonarHead& h, Resolution r);
 
 // Overrides fields from a YAML map whose keys mirror the struct fields, e.g.
 // {duration_s: 120, sonar: {gain: 4}, nav: {dvl_sigma_mps: 0.02}}. Unknown keys are errors.
+// `profile: clean|field` applies that profile first (whatever its place in the file); then
+// `sonar.vertical_mode: 1.2MHz|2.1MHz` picks the M1200d mode; `sonar.horizontal:` and
+// `sonar.vertical:` set SonarHead fields.
 Status apply_sim_config_yaml(const std::string& yaml_text, SimConfig& config);
 // The same from a YAML file; errors name the file.
 Status load_sim_config_file(const std::string& path, SimConfig& config);

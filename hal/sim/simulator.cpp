@@ -141,7 +141,9 @@ Simulator::Simulator(Scene scene, SimConfig config) : impl_(std::make_unique<Imp
   m.scene = std::move(scene);
   m.cfg = config;
   m.duration = Time::from_seconds(config.duration_s);
-  m.renderer = std::make_unique<SonarRenderer>(m.scene.mesh, config.sonar, config.resolution, config.seed);
+  SonarModelConfig sonar = config.sonar;
+  sonar.seafloor_depth_m = m.scene.seafloor_depth_m;  // the seabed mirror (optional multipath)
+  m.renderer = std::make_unique<SonarRenderer>(m.scene.mesh, sonar, config.resolution, config.seed);
   m.trajectory = std::make_unique<Trajectory>(m.scene.route, m.scene.vehicle_depth_m, config.vehicle, m.duration);
   const auto& n = config.nav;
   auto& s = m.streams;
@@ -233,6 +235,7 @@ std::map<std::string, std::string> Simulator::metadata() const {
   md["vehicle_depth_m"] = buf;
   md["software_version"] = kVersion;
   md["labels"] = m.cfg.labels ? "true" : "false";
+  md["profile"] = profile_name(m.cfg.profile);
   return md;
 }
 

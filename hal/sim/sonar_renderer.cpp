@@ -43,25 +43,66 @@ std::vector<float> erlang_table(int looks) {
   return t;
 }
 
+// A smooth, seeded 2D value-noise field of unit-ish variance, a function of world (x, y)
+// only (so the seabed looks the same from every ping): lattice values from a hash,
+// smoothstep-interpolated. Only +, -, *, / (no libm): the same bits on every machine.
+float lattice(int64_t ix, int64_t iy, uint64_t stream) {
+  const uint64_t h = mix64(mix64(static_cast<uint64_t>(ix) ^ stream) ^ static_cast<uint64_t>(iy));
+  return static_cast<float>(static_cast<double>(h >> 11) * 0x1.0p-53 * 2.0 - 1.0) * 1.7320508f;  // U(-sqrt3, sqrt3)
+}
+float value_noise(double x, double y, uint64_t stream) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<int64_t>(fx), iy = static_cast<int64_t>(fy);
+  const float tx = static_cast<float>(x - fx), ty = static_cast<float>(y - fy);
+  const float sx = tx * tx * (3.0f - 2.0f * tx), sy = ty * ty * (3.0f - 2.0f * ty);
+  const float a = lattice(ix, iy, stream), b = lattice(ix + 1, iy, stream);
+  const float c = lattice(ix, iy + 1, stream), d = lattice(ix + 1, iy + 1, stream);
+  const float ab = a + (b - a) * sx, cd = c + (d - c) * sx;
+  // Bilinear smoothstep interpolation of unit-variance lattice values has variance ~0.44 on
+  // average; 1.5 brings the field back to about unit variance.
+  return 1.5f * (ab + (cd - ab) * sy);
+}
+constexpr uint64_t kTextureStream = 0x5345414254455854ull, kReliefXStream = 0x52454c49454658ull,
+                   kReliefYStream = 0x52454c49454659ull;
+
 }  // namespace
+
+// Per-mount tables: the device's bearing table, ray pattern and range-dependent gains.
+struct HeadTables {  // internal to this file
+  SonarHead spec;
+  SonarGeometry geo;
+  std::vector<double> bearings;
+  std::vector<float> tan_mid;           // tan of the midpoints between beams (beam lookup)
+  float tan_lo = 0.0f, tan_hi = 0.0f;   // tan of the fan's outer edges
+  int rays_per_beam = 0;
+  // Ray pattern in the sonar frame, beam-major, and each ray's weight (aperture pattern,
+  // normalised per beam) and its unnormalised aperture gain G(phi).
+  std::vector<float> dx, dy, dz, weight, gain_ap;
+  std::vector<float> row_signal;        // spreading * absorption * TVG * bin-width normalisation
+  std::vector<float> row_noise;         // TVG applied to the noise floor (1: range-independent)
+  std::vector<float> side_min;          // per row: the weakest echo whose side lobes can show
+  // Beam pattern as a scatter kernel: echo in beam j adds k_main[j][k] (k = -main_half..)
+  // to beams j + k, and, when strong, k_side taps (offset, weight) further out.
+  int main_half = 0;
+  std::vector<float> k_main;            // beams x (2 main_half + 1)
+  std::vector<std::vector<std::pair<int, float>>> k_side;
+  float side_peak = 0.0f;               // the largest side-lobe tap (relative to the echo)
+  double absorption_db_per_m = 0.0;
+};
 
 struct SonarRenderer::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   SonarModelConfig cfg;
-  SonarGeometry geo;
   uint64_t seed = 0;
-  std::vector<double> bearings;
-  int rays_per_beam = 0;
-  // Ray pattern in the sonar frame, beam-major, and each ray's weight (aperture pattern,
-  // normalised per beam).
-  std::vector<float> dx, dy, dz, weight;
+  HeadTables heads[2];                        // indexed by SonarMount
   std::vector<Eigen::Vector3f> normal;  // unit normal per triangle
   std::vector<float> reflect;           // reflectivity per triangle
   std::vector<uint8_t> semantic;
   std::vector<uint32_t> object;
-  std::vector<float> row_gain;          // spreading loss * TVG * bin-width normalisation
   std::vector<float> cos_pow;           // cos(incidence)^k on [0, 1]
+  std::vector<float> gap_lut;           // aperture gain G(phi) against sin(phi) on [-1, 1]
+  std::vector<float> texture_lut;       // exp(sigma t - sigma^2 / 2) for t on [-4, 4]
   std::vector<float> speckle, noise;
   std::vector<uint8_t> gamma_lut;
 
@@ -71,11 +112,152 @@ struct SonarRenderer::Impl {
   }
 };
 
+namespace {
+
+constexpr int kApLut = 4096;
+constexpr int kTexLut = 2048;
+
+// Two-way azimuth pattern of a uniformly weighted aperture, sinc^4, scaled beyond the first
+// null so that the first side lobe peaks at side_lobe_db; u = angle / (beam_width / 0.6391)
+// puts the -3 dB points at +-beam_width / 2.
+double beam_pattern(double u, double side_scale) {
+  const double au = std::abs(u);
+  if (au < 1e-9) return 1.0;
+  const double s = std::sin(std::numbers::pi * au) / (std::numbers::pi * au);
+  const double p = s * s * s * s;
+  return au < 1.0 ? p : p * side_scale;
+}
+
+void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cfg, Resolution resolution) {
+  h.spec = spec;
+  h.geo = sonar_geometry(spec, resolution);
+  // Bearing table like the device's: int16 in 1/100 degree, denser near the centre.
+  const int nb = h.geo.beams;
+  const double half = 0.5 * spec.swath_deg;
+  for (int j = 0; j < nb; ++j) {
+    const double u = -1.0 + 2.0 * (j + 0.5) / nb;
+    const double deg = half * ((1.0 - cfg.bearing_cubic) * u + cfg.bearing_cubic * u * u * u);
+    const auto centi = static_cast<int16_t>(std::lround(deg * 100.0));
+    h.bearings.push_back(centi * 0.01 * kDeg);
+  }
+  for (int j = 0; j + 1 < nb; ++j) {
+    h.tan_mid.push_back(static_cast<float>(std::tan(0.5 * (h.bearings[static_cast<size_t>(j)] + h.bearings[static_cast<size_t>(j + 1)]))));
+  }
+  h.tan_lo = static_cast<float>(std::tan(1.5 * h.bearings.front() - 0.5 * h.bearings[1]));
+  h.tan_hi = static_cast<float>(std::tan(1.5 * h.bearings.back() - 0.5 * h.bearings[static_cast<size_t>(nb - 2)]));
+  // Ray pattern: beam_samples across the beam width, elevation_samples stratified (jittered
+  // within strata) across the aperture. The pattern is fixed per beam (the device's
+  // geometry) and differs between beams, so no stripes line up across the image.
+  const int S = cfg.beam_samples, E = cfg.elevation_samples;
+  h.rays_per_beam = ((S * E + 15) / 16) * 16;
+  const double ap = spec.aperture_deg * kDeg, sigma = cfg.aperture_sigma_deg * kDeg * (spec.aperture_deg / 20.0);
+  for (int j = 0; j < nb; ++j) {
+    const double lo = j > 0 ? h.bearings[static_cast<size_t>(j - 1)] : 2 * h.bearings[0] - h.bearings[1];
+    const double hi = j + 1 < nb ? h.bearings[static_cast<size_t>(j + 1)]
+                                 : 2 * h.bearings[static_cast<size_t>(nb - 1)] - h.bearings[static_cast<size_t>(nb - 2)];
+    const double width = 0.5 * (hi - lo) * cfg.beam_width_factor;
+    Rng rng(derive_seed(kRayPatternStream, static_cast<uint64_t>(j)));
+    std::vector<double> w;
+    for (int s = 0; s < S; ++s) {
+      for (int e = 0; e < E; ++e) {
+        const double th = h.bearings[static_cast<size_t>(j)] + width * ((s + rng.uniform()) / S - 0.5);
+        const double ph = -0.5 * ap + ap * (e + rng.uniform()) / E;
+        h.dx.push_back(static_cast<float>(std::cos(ph) * std::cos(th)));
+        h.dy.push_back(static_cast<float>(std::cos(ph) * std::sin(th)));
+        h.dz.push_back(static_cast<float>(std::sin(ph)));
+        w.push_back(std::exp(-0.5 * (ph / sigma) * (ph / sigma)));
+      }
+    }
+    double sum = 0;
+    for (double x : w) sum += x;
+    for (double x : w) {
+      h.weight.push_back(static_cast<float>(x / sum));
+      h.gain_ap.push_back(static_cast<float>(x));
+    }
+    for (int pad = S * E; pad < h.rays_per_beam; ++pad) {  // padding rays (masked off)
+      h.dx.push_back(1.0f);
+      h.dy.push_back(0.0f);
+      h.dz.push_back(0.0f);
+      h.weight.push_back(0.0f);
+      h.gain_ap.push_back(1.0f);
+    }
+  }
+  // Range: spreading r^-p and two-way absorption against the TVG r^q times the share of the
+  // absorption it gives back, all relative to tvg_reference_m; the noise floor enters before
+  // the TVG in the field profile, so it rises with range as on the device.
+  h.absorption_db_per_m = head_absorption_db_per_m(cfg, spec);
+  const double res = h.geo.range_resolution_m, rref = cfg.tvg_reference_m, a2 = 2.0 * h.absorption_db_per_m;
+  for (int i = 0; i < h.geo.range_bins; ++i) {
+    const double r = res * (i + 1);
+    const double loss_db = -a2 * (r - rref), tvg_abs_db = cfg.tvg_absorption_fraction * a2 * (r - rref);
+    const double tvg = std::pow(r / rref, cfg.tvg_exponent) * std::pow(10.0, tvg_abs_db / 10.0);
+    double signal = std::pow(r, -cfg.spreading_exponent) * std::pow(r / rref, cfg.tvg_exponent) *
+                    std::pow(rref, cfg.spreading_exponent) * (0.05 / res);
+    if (a2 > 0.0) signal *= std::pow(10.0, (loss_db + tvg_abs_db) / 10.0);
+    h.row_signal.push_back(static_cast<float>(signal));
+    h.row_noise.push_back(cfg.noise_before_tvg ? static_cast<float>(tvg) : 1.0f);
+  }
+  // Beam pattern kernels (field profile): normalised per source beam so an extended target
+  // keeps its calibrated level; side-lobe taps kept down to side_lobe_floor_db.
+  h.k_side.assign(static_cast<size_t>(nb), {});
+  if (cfg.beam_pattern && spec.beam_width_deg > 0.0) {
+    const double u_scale = 0.6391 / (spec.beam_width_deg * kDeg);
+    const double natural_sll = 0.0022;  // sinc^4's first side lobe, -26.6 dB
+    double first_peak = 0.0;
+    for (double u = 1.0; u < 2.0; u += 1e-4) first_peak = std::max(first_peak, beam_pattern(u, 1.0));
+    (void)natural_sll;
+    const double side_scale = std::pow(10.0, cfg.side_lobe_db / 10.0) / first_peak;
+    const double floor_lin = std::pow(10.0, cfg.side_lobe_floor_db / 10.0);
+    // Main lobe taps: |u| < 1 (to the first null).
+    double min_spacing = 1e9;
+    for (int j = 0; j + 1 < nb; ++j) min_spacing = std::min(min_spacing, h.bearings[static_cast<size_t>(j + 1)] - h.bearings[static_cast<size_t>(j)]);
+    h.main_half = std::max(1, static_cast<int>(std::ceil(1.0 / (u_scale * min_spacing))));
+    const int W = 2 * h.main_half + 1;
+    h.k_main.assign(static_cast<size_t>(nb) * static_cast<size_t>(W), 0.0f);
+    for (int j = 0; j < nb; ++j) {
+      double total = 0.0;
+      std::vector<std::pair<int, double>> side;
+      std::vector<double> main(static_cast<size_t>(W), 0.0);
+      for (int k = -j; j + k < nb; ++k) {
+        const double u = (h.bearings[static_cast<size_t>(j + k)] - h.bearings[static_cast<size_t>(j)]) * u_scale;
+        const double p = beam_pattern(u, side_scale);
+        if (std::abs(u) < 1.0) {
+          if (std::abs(k) <= h.main_half) main[static_cast<size_t>(k + h.main_half)] = p;
+          total += p;
+        } else if (p >= floor_lin) {
+          side.emplace_back(k, p);
+          total += p;
+        }
+      }
+      for (int k = 0; k < W; ++k) h.k_main[static_cast<size_t>(j) * static_cast<size_t>(W) + static_cast<size_t>(k)] = static_cast<float>(main[static_cast<size_t>(k)] / total);
+      for (const auto& [k, p] : side) {
+        const float t = static_cast<float>(p / total);
+        h.k_side[static_cast<size_t>(j)].emplace_back(k, t);
+        h.side_peak = std::max(h.side_peak, t);
+      }
+    }
+    // Side lobes matter only where they can reach a tenth of the noise floor.
+    for (int i = 0; i < h.geo.range_bins; ++i) {
+      const double noise = std::max(cfg.noise_floor, 1e-12) * h.row_noise[static_cast<size_t>(i)];
+      h.side_min.push_back(static_cast<float>(0.1 * noise / (std::max<double>(h.side_peak, 1e-30) * h.row_signal[static_cast<size_t>(i)])));
+    }
+  }
+}
+
+// The beam whose sector contains tan(bearing) = y / x, or -1 outside the fan.
+int beam_of(const HeadTables& h, float y, float x) {
+  if (!(x > 0.0f)) return -1;
+  const float t = y / x;
+  if (t < h.tan_lo || t > h.tan_hi) return -1;
+  return static_cast<int>(std::upper_bound(h.tan_mid.begin(), h.tan_mid.end(), t) - h.tan_mid.begin());
+}
+
+}  // namespace
+
 SonarRenderer::SonarRenderer(const TriangleMesh& mesh, const SonarModelConfig& cfg, Resolution resolution, uint64_t seed)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.cfg = cfg;
-  m.geo = sonar_geometry(cfg, resolution);
   m.seed = seed;
   // Embree with one build thread (the BVH build is deterministic) and its ISA pinned to
   // SSE2 (embree_device.hpp): the same kernels, hence the same hits, on every x86-64 CPU.
@@ -115,57 +297,22 @@ SonarRenderer::SonarRenderer(const TriangleMesh& mesh, const SonarModelConfig& c
     m.object.push_back(mesh.object_id[i]);
     m.reflect.push_back(static_cast<float>(c < cfg.reflectivity.size() ? cfg.reflectivity[c] : 0.5));
   }
-  // Bearing table like the device's: int16 in 1/100 degree, denser near the centre.
-  const int nb = m.geo.beams;
-  const double half = 0.5 * cfg.swath_deg;
-  for (int j = 0; j < nb; ++j) {
-    const double u = -1.0 + 2.0 * (j + 0.5) / nb;
-    const double deg = half * ((1.0 - cfg.bearing_cubic) * u + cfg.bearing_cubic * u * u * u);
-    const auto centi = static_cast<int16_t>(std::lround(deg * 100.0));
-    m.bearings.push_back(centi * 0.01 * kDeg);
-  }
-  // Ray pattern: beam_samples across the beam width, elevation_samples stratified (jittered
-  // within strata) across the aperture. The pattern is fixed per beam (the device's
-  // geometry) and differs between beams, so no stripes line up across the image.
-  const int S = cfg.beam_samples, E = cfg.elevation_samples;
-  m.rays_per_beam = ((S * E + 15) / 16) * 16;
-  const double ap = cfg.aperture_deg * kDeg, sigma = cfg.aperture_sigma_deg * kDeg;
-  for (int j = 0; j < nb; ++j) {
-    const double lo = j > 0 ? m.bearings[static_cast<size_t>(j - 1)] : 2 * m.bearings[0] - m.bearings[1];
-    const double hi = j + 1 < nb ? m.bearings[static_cast<size_t>(j + 1)]
-                                 : 2 * m.bearings[static_cast<size_t>(nb - 1)] - m.bearings[static_cast<size_t>(nb - 2)];
-    const double width = 0.5 * (hi - lo) * cfg.beam_width_factor;
-    Rng rng(derive_seed(kRayPatternStream, static_cast<uint64_t>(j)));
-    std::vector<double> w;
-    for (int s = 0; s < S; ++s) {
-      for (int e = 0; e < E; ++e) {
-        const double th = m.bearings[static_cast<size_t>(j)] + width * ((s + rng.uniform()) / S - 0.5);
-        const double ph = -0.5 * ap + ap * (e + rng.uniform()) / E;
-        m.dx.push_back(static_cast<float>(std::cos(ph) * std::cos(th)));
-        m.dy.push_back(static_cast<float>(std::cos(ph) * std::sin(th)));
-        m.dz.push_back(static_cast<float>(std::sin(ph)));
-        w.push_back(std::exp(-0.5 * (ph / sigma) * (ph / sigma)));
-      }
-    }
-    double sum = 0;
-    for (double x : w) sum += x;
-    for (double x : w) m.weight.push_back(static_cast<float>(x / sum));
-    for (int pad = S * E; pad < m.rays_per_beam; ++pad) {  // padding rays (masked off)
-      m.dx.push_back(1.0f);
-      m.dy.push_back(0.0f);
-      m.dz.push_back(0.0f);
-      m.weight.push_back(0.0f);
-    }
-  }
-  const double res = m.geo.range_resolution_m;
-  for (int i = 0; i < m.geo.range_bins; ++i) {
-    const double r = res * (i + 1);
-    m.row_gain.push_back(static_cast<float>(std::pow(r, -cfg.spreading_exponent) *
-                                            std::pow(r / cfg.tvg_reference_m, cfg.tvg_exponent) *
-                                            std::pow(cfg.tvg_reference_m, cfg.spreading_exponent) * (0.05 / res)));
+  for (int mount = 0; mount < 2; ++mount) {
+    build_head(m.heads[mount], mount == 0 ? cfg.head_h : cfg.head_v, cfg, resolution);
   }
   for (int i = 0; i < kCosTable; ++i) {
     m.cos_pow.push_back(static_cast<float>(std::pow((i + 0.5) / kCosTable, cfg.incidence_exponent)));
+  }
+  // G(phi) against sin(phi) for the mirrored (multipath) arrivals: the same Gaussian as the
+  // ray weights, per head aperture scaled in render (the LUT is for a 20 deg aperture's sigma).
+  for (int i = 0; i < kApLut; ++i) {
+    const double sphi = -1.0 + 2.0 * (i + 0.5) / kApLut;
+    const double phi = std::asin(sphi), sigma = cfg.aperture_sigma_deg * kDeg;
+    m.gap_lut.push_back(static_cast<float>(std::exp(-0.5 * (phi / sigma) * (phi / sigma))));
+  }
+  for (int i = 0; i < kTexLut; ++i) {
+    const double t = -4.0 + 8.0 * (i + 0.5) / kTexLut, sg = cfg.seabed_texture;
+    m.texture_lut.push_back(static_cast<float>(std::exp(sg * t - 0.5 * sg * sg)));
   }
   m.speckle = erlang_table(cfg.speckle_looks);
   m.noise = erlang_table(1);
@@ -177,10 +324,15 @@ SonarRenderer::SonarRenderer(const TriangleMesh& mesh, const SonarModelConfig& c
 
 SonarRenderer::~SonarRenderer() = default;
 
-const std::vector<double>& SonarRenderer::bearings_rad() const { return impl_->bearings; }
-const SonarGeometry& SonarRenderer::geometry() const { return impl_->geo; }
-uint64_t SonarRenderer::rays_per_ping() const {
-  return static_cast<uint64_t>(impl_->geo.beams) * static_cast<uint64_t>(impl_->cfg.beam_samples * impl_->cfg.elevation_samples);
+const std::vector<double>& SonarRenderer::bearings_rad(SonarMount mount) const {
+  return impl_->heads[static_cast<int>(mount)].bearings;
+}
+const SonarGeometry& SonarRenderer::geometry(SonarMount mount) const { return impl_->heads[static_cast<int>(mount)].geo; }
+uint64_t SonarRenderer::rays_per_ping(SonarMount mount) const {
+  return static_cast<uint64_t>(geometry(mount).beams) * static_cast<uint64_t>(impl_->cfg.beam_samples * impl_->cfg.elevation_samples);
+}
+double SonarRenderer::absorption_db_per_m(SonarMount mount) const {
+  return impl_->heads[static_cast<int>(mount)].absorption_db_per_m;
 }
 
 std::optional<double> SonarRenderer::cast(const Vec3& o, const Vec3& d, double max_m) const {
@@ -202,14 +354,15 @@ std::optional<double> SonarRenderer::cast(const Vec3& o, const Vec3& d, double m
   return static_cast<double>(rh.ray.tfar);
 }
 
-SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp, uint32_t ping_id,
-                                  bool with_labels) const {
+std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount, Time stamp, uint32_t ping_id,
+                                                  bool with_labels, SonarRender& out) const {
   const Impl& m = *impl_;
-  const int rows = m.geo.range_bins, cols = m.geo.beams;
+  const HeadTables& h = m.heads[static_cast<int>(mount)];
+  const SonarModelConfig& cfg = m.cfg;
+  const int rows = h.geo.range_bins, cols = h.geo.beams;
   const size_t npix = static_cast<size_t>(rows) * static_cast<size_t>(cols);
   std::vector<float> accum(npix, 0.0f);
   std::vector<float> best;
-  SonarRender out;
   if (with_labels) {
     best.assign(npix, 0.0f);
     out.labels.stamp = stamp;
@@ -221,9 +374,38 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
     out.labels.object_id.assign(npix, 0);
   }
   const Eigen::Matrix3f R = T_W_S.rotation().cast<float>();
+  const Eigen::Matrix3f Rt = R.transpose();
   const Eigen::Vector3f o = T_W_S.translation().cast<float>();
-  const float inv_res = static_cast<float>(1.0 / m.geo.range_resolution_m);
-  const float tfar = static_cast<float>(m.cfg.max_range_m + 0.5 * m.geo.range_resolution_m);
+  const float inv_res = static_cast<float>(1.0 / h.geo.range_resolution_m);
+  const float tfar = static_cast<float>(h.spec.max_range_m + 0.5 * h.geo.range_resolution_m);
+  // Field profile switches.
+  const bool lambert = cfg.seabed_lambert;
+  const float mu = static_cast<float>(cfg.seabed_mu);
+  const double tex_scale = 1.0 / cfg.seabed_texture_scale_m, rel_scale = 1.0 / cfg.seabed_relief_scale_m;
+  const float rel_slope = static_cast<float>(std::tan(cfg.seabed_relief_deg * kDeg));
+  // Mirrors for one-bounce multipath: the surface z = 0 and the seabed plane.
+  struct Mirror {
+    float z0, coeff;
+  };
+  Mirror mirrors[2];
+  int n_mirrors = 0;
+  if (cfg.surface_reflection > 0.0 && o.z() < 0.0f) mirrors[n_mirrors++] = {0.0f, static_cast<float>(cfg.surface_reflection)};
+  if (cfg.seabed_reflection > 0.0 && cfg.seafloor_depth_m > 0.0 && o.z() > static_cast<float>(-cfg.seafloor_depth_m))
+    mirrors[n_mirrors++] = {static_cast<float>(-cfg.seafloor_depth_m), static_cast<float>(cfg.seabed_reflection)};
+  // A ghost is deposited only where it can reach a tenth of the noise floor at its range.
+  const float noise_ref = static_cast<float>(std::max(cfg.noise_floor, 1e-12) * 0.1);
+  const float ap_lut_scale = static_cast<float>(20.0 / h.spec.aperture_deg);  // G for this head's aperture
+  auto ap_gain = [&m, ap_lut_scale](float sphi) {
+    const float x = std::clamp(sphi * ap_lut_scale, -1.0f, 1.0f);
+    const int i = std::min(kApLut - 1, static_cast<int>((x + 1.0f) * (0.5f * kApLut)));
+    return m.gap_lut[static_cast<size_t>(i)];
+  };
+  auto deposit = [&](float range_m, int beam, float value) {
+    const int bin = static_cast<int>(range_m * inv_res + 0.5f) - 1;
+    if (bin < 0 || bin >= rows || beam < 0 || beam >= cols) return;
+    if (value * h.row_signal[static_cast<size_t>(bin)] < noise_ref * h.row_noise[static_cast<size_t>(bin)]) return;
+    accum[static_cast<size_t>(bin) * static_cast<size_t>(cols) + static_cast<size_t>(beam)] += value;
+  };
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -234,12 +416,12 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
   alignas(64) int valid[16];
   static_assert(alignof(RTCRayHit16) >= 64, "RTCRayHit16 must be 64-byte aligned");
   for (int j = 0; j < cols; ++j) {
-    for (int base = 0; base < m.rays_per_beam; base += 16) {
-      const size_t r0 = static_cast<size_t>(j) * static_cast<size_t>(m.rays_per_beam) + static_cast<size_t>(base);
+    for (int base = 0; base < h.rays_per_beam; base += 16) {
+      const size_t r0 = static_cast<size_t>(j) * static_cast<size_t>(h.rays_per_beam) + static_cast<size_t>(base);
       for (int k = 0; k < 16; ++k) {
         const size_t r = r0 + static_cast<size_t>(k);
-        const Eigen::Vector3f d = R * Eigen::Vector3f(m.dx[r], m.dy[r], m.dz[r]);
-        valid[k] = m.weight[r] > 0.0f ? -1 : 0;
+        const Eigen::Vector3f d = R * Eigen::Vector3f(h.dx[r], h.dy[r], h.dz[r]);
+        valid[k] = h.weight[r] > 0.0f ? -1 : 0;
         rh.ray.org_x[k] = o.x();
         rh.ray.org_y[k] = o.y();
         rh.ray.org_z[k] = o.z();
@@ -257,13 +439,32 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
       rtcIntersect16(valid, m.scene, &ctx, &rh);
       for (int k = 0; k < 16; ++k) {
         if (!valid[k] || rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
-        const int bin = static_cast<int>(rh.ray.tfar[k] * inv_res + 0.5f) - 1;
+        const float t = rh.ray.tfar[k];
+        const int bin = static_cast<int>(t * inv_res + 0.5f) - 1;
         if (bin < 0 || bin >= rows) continue;
         const size_t tri = rh.hit.primID[k];
+        const size_t ray = r0 + static_cast<size_t>(k);
         const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
-        const float c = std::min(1.0f, std::abs(m.normal[tri].dot(d)));
-        const int ci = std::min(kCosTable - 1, static_cast<int>(c * kCosTable));
-        const float contrib = m.weight[r0 + static_cast<size_t>(k)] * m.reflect[tri] * m.cos_pow[static_cast<size_t>(ci)];
+        float contrib;
+        if (lambert && m.semantic[tri] == static_cast<uint8_t>(SemanticClass::kSeafloor)) {
+          // Lambert's law mu cos^2(theta) on a normal perturbed by the relief field, times
+          // the grain texture: both functions of the world position only.
+          const Eigen::Vector3f p = o + t * d;
+          Eigen::Vector3f n = m.normal[tri];
+          if (rel_slope > 0.0f) {
+            const double px = p.x() * rel_scale, py = p.y() * rel_scale;
+            n += rel_slope * Eigen::Vector3f(value_noise(px, py, kReliefXStream), value_noise(px, py, kReliefYStream), 0.0f);
+            n /= n.norm();
+          }
+          const float c = std::min(1.0f, std::abs(n.dot(d)));
+          const float tv = value_noise(p.x() * tex_scale, p.y() * tex_scale, kTextureStream);
+          const int ti = std::clamp(static_cast<int>((tv + 4.0f) * (kTexLut / 8.0f)), 0, kTexLut - 1);
+          contrib = h.weight[ray] * mu * c * c * m.texture_lut[static_cast<size_t>(ti)];
+        } else {
+          const float c = std::min(1.0f, std::abs(m.normal[tri].dot(d)));
+          const int ci = std::min(kCosTable - 1, static_cast<int>(c * kCosTable));
+          contrib = h.weight[ray] * m.reflect[tri] * m.cos_pow[static_cast<size_t>(ci)];
+        }
         const size_t px = static_cast<size_t>(bin) * static_cast<size_t>(cols) + static_cast<size_t>(j);
         accum[px] += contrib;
         if (with_labels && contrib > best[px]) {
@@ -271,34 +472,132 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
           out.labels.semantic[px] = m.semantic[tri];
           out.labels.object_id[px] = m.object[tri];
         }
+        // One-bounce multipath through each mirror plane (no occlusion test on the bounce):
+        // out direct / back via the mirror and the reverse, both at (t + t')/2, one in this
+        // beam and one in the beam of the image point; and both ways via the mirror at t'.
+        for (int mi = 0; mi < n_mirrors; ++mi) {
+          const Mirror& mr = mirrors[mi];
+          const Eigen::Vector3f p = o + t * d;
+          const Eigen::Vector3f q_W(p.x() - o.x(), p.y() - o.y(), 2.0f * mr.z0 - p.z() - o.z());
+          const float t2 = q_W.norm();
+          if (!(t2 > 0.0f)) continue;
+          const Eigen::Vector3f q = Rt * q_W;  // image point in the sonar frame
+          const float g_ratio = ap_gain(q.z() / t2) / h.gain_ap[ray];
+          const float cross = contrib * mr.coeff * std::sqrt(g_ratio);
+          const float twice = contrib * mr.coeff * mr.coeff * g_ratio;
+          const float r_cross = 0.5f * (t + t2);
+          if (cross * h.row_signal[static_cast<size_t>(std::min(rows - 1, bin))] < noise_ref * h.row_noise[static_cast<size_t>(bin)])
+            continue;  // the strongest ghost is below a tenth of the noise floor (ranges only grow)
+          const int jb = beam_of(h, q.y(), q.x());
+          deposit(r_cross, j, cross);
+          deposit(r_cross, jb, cross);
+          deposit(t2, jb, twice);
+        }
       }
     }
   }
+  // Azimuth beam pattern (field profile): each echo spreads over the main lobe's beams and,
+  // when strong enough to show above the noise floor, into the side lobes.
+  if (!h.k_main.empty()) {
+    std::vector<float> spread(npix, 0.0f);
+    const int W = 2 * h.main_half + 1;
+    // Labels follow the main lobe (the target as the device resolves it); side lobes and
+    // multipath ghosts keep the label of what the beam really looks at (often water).
+    std::vector<uint8_t> sem;
+    std::vector<uint32_t> obj;
+    std::vector<float> best_spread;
+    if (with_labels) {
+      sem.assign(npix, 0);
+      obj.assign(npix, 0);
+      best_spread.assign(npix, 0.0f);
+    }
+    for (int i = 0; i < rows; ++i) {
+      const float* src = accum.data() + static_cast<size_t>(i) * static_cast<size_t>(cols);
+      float* dst = spread.data() + static_cast<size_t>(i) * static_cast<size_t>(cols);
+      const float side_min = h.side_min[static_cast<size_t>(i)];
+      for (int j = 0; j < cols; ++j) {
+        const float v = src[j];
+        if (v == 0.0f) continue;
+        const float* k = h.k_main.data() + static_cast<size_t>(j) * static_cast<size_t>(W);
+        const int lo = std::max(0, j - h.main_half), hi = std::min(cols - 1, j + h.main_half);
+        for (int b = lo; b <= hi; ++b) dst[b] += v * k[b - j + h.main_half];
+        if (with_labels) {
+          const size_t src_px = static_cast<size_t>(i) * static_cast<size_t>(cols) + static_cast<size_t>(j);
+          const float own = best[src_px];
+          if (own > 0.0f) {
+            for (int b = lo; b <= hi; ++b) {
+              const size_t px = static_cast<size_t>(i) * static_cast<size_t>(cols) + static_cast<size_t>(b);
+              const float c = own * k[b - j + h.main_half];
+              if (c > best_spread[px]) {
+                best_spread[px] = c;
+                sem[px] = out.labels.semantic[src_px];
+                obj[px] = out.labels.object_id[src_px];
+              }
+            }
+          }
+        }
+        if (v >= side_min) {
+          for (const auto& [off, w] : h.k_side[static_cast<size_t>(j)]) dst[j + off] += v * w;
+        }
+      }
+    }
+    accum.swap(spread);
+    if (with_labels) {
+      out.labels.semantic.swap(sem);
+      out.labels.object_id.swap(obj);
+    }
+  }
+  return accum;
+}
+
+EchoImage SonarRenderer::echo(const SE3& T_W_S, SonarMount mount) const {
+  SonarRender unused;
+  EchoImage e;
+  const HeadTables& h = impl_->heads[static_cast<int>(mount)];
+  e.rows = h.geo.range_bins;
+  e.cols = h.geo.beams;
+  e.range_resolution_m = h.geo.range_resolution_m;
+  e.bearings_rad = h.bearings;
+  e.echo = accumulate(T_W_S, mount, Time{}, 0, false, unused);
+  e.row_signal = h.row_signal;
+  e.row_noise = h.row_noise;
+  return e;
+}
+
+SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp, uint32_t ping_id,
+                                  bool with_labels) const {
+  const Impl& m = *impl_;
+  const HeadTables& h = m.heads[static_cast<int>(mount)];
+  const SonarModelConfig& cfg = m.cfg;
+  const int rows = h.geo.range_bins, cols = h.geo.beams;
+  const size_t npix = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+  SonarRender out;
+  const std::vector<float> accum = accumulate(T_W_S, mount, stamp, ping_id, with_labels, out);
   // Speckle, noise floor, TVG, gain, gamma, 8-bit: one 64-bit draw per two pixels.
   SonarPing& p = out.ping;
   p.part_number = mount == SonarMount::kHorizontal ? kPartM750d : kPartM1200d;
   p.mount = mount;
   p.stamp = stamp;
   p.ping_id = ping_id;
-  p.range_resolution_m = m.geo.range_resolution_m;
-  p.frequency_hz = mount == SonarMount::kHorizontal ? m.cfg.frequency_h_hz : m.cfg.frequency_v_hz;
-  p.gain_percent = m.cfg.gain_percent;
-  p.bearings_rad = m.bearings;
+  p.range_resolution_m = h.geo.range_resolution_m;
+  p.frequency_hz = h.spec.frequency_hz;
+  p.gain_percent = cfg.gain_percent;
+  p.bearings_rad = h.bearings;
   p.rows = static_cast<uint16_t>(rows);
   p.cols = static_cast<uint16_t>(cols);
   p.bytes_per_pixel = 1;
   p.image.resize(npix);
   Rng rng(derive_seed(m.seed, mount == SonarMount::kHorizontal ? kSpeckleStreamHorizontal : kSpeckleStreamVertical, ping_id));
-  const float gain = static_cast<float>(m.cfg.gain) * (kGammaLut - 1);
-  const float noise_floor = static_cast<float>(m.cfg.noise_floor);
+  const float gain = static_cast<float>(cfg.gain) * (kGammaLut - 1);
+  const float noise_floor = static_cast<float>(cfg.noise_floor);
   uint64_t bits = 0;
   for (size_t i = 0; i < npix; ++i) {
     if ((i & 1) == 0) bits = rng.next_u64();
     const size_t s_idx = static_cast<size_t>(bits & 0xFFF), n_idx = static_cast<size_t>((bits >> 12) & 0xFFF);
     bits >>= 32;
     const size_t row = i / static_cast<size_t>(cols);
-    const float signal = accum[i] * m.row_gain[row] * m.speckle[s_idx];
-    const float lin = (signal + noise_floor * m.noise[n_idx]) * gain;
+    const float signal = accum[i] * h.row_signal[row] * m.speckle[s_idx];
+    const float lin = (signal + noise_floor * h.row_noise[row] * m.noise[n_idx]) * gain;
     const int q = lin >= static_cast<float>(kGammaLut - 1) ? kGammaLut - 1 : static_cast<int>(lin);
     p.image[i] = m.gamma_lut[static_cast<size_t>(q)];
   }

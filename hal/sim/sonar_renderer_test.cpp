@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "hal/sim/primitives.hpp"
+#include "hal/sim/scene.hpp"
 #include "hal/sim/sonar_renderer.hpp"
 
 namespace orthosonar::sim {
@@ -135,12 +136,228 @@ TEST_CASE("labels mark the echoes of an object with its class", "[hal]") {
 
 TEST_CASE("the bearing table is quantised like the device and denser at the centre", "[hal]") {
   const SonarRenderer full(TriangleMesh{}, SonarModelConfig{}, Resolution::kFull, 1);
-  const auto& b = full.bearings_rad();
+  const auto& b = full.bearings_rad(SonarMount::kHorizontal);
   REQUIRE(b.size() == 512u);
-  CHECK(full.geometry().range_bins == 600);
+  CHECK(full.geometry(SonarMount::kHorizontal).range_bins == 600);
   for (double x : b) CHECK(std::abs(x / kDeg * 100.0 - std::round(x / kDeg * 100.0)) < 1e-6);
   CHECK(b.back() == Approx(65.0 * kDeg).margin(0.5 * kDeg));
   CHECK(b[257] - b[256] < b[511] - b[510]);
+}
+
+
+// --- Field profile: known answers on the echo image (before speckle and noise) ---
+
+namespace {
+
+SonarModelConfig field_config() {
+  SonarModelConfig c;
+  apply_profile(c, SonarProfile::kField);
+  return c;
+}
+
+double db(double ratio) { return 10.0 * std::log10(ratio); }
+
+// Sum of a column's echo over rows [r0, r1).
+double column_sum(const EchoImage& e, int col, int r0 = 0, int r1 = -1) {
+  double s = 0.0;
+  for (int r = r0; r < (r1 < 0 ? e.rows : r1); ++r) s += e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)];
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("field profile: a thin pole's side lobes peak at the configured level in neighbouring beams", "[hal]") {
+  for (const double sll : {-28.0, -20.0}) {
+    SonarModelConfig c = field_config();
+    c.surface_reflection = 0.0;
+    c.side_lobe_db = sll;
+    TriangleMesh m;  // a 2 cm square pole, 10 m ahead, on the axis: narrower than one beam
+    MeshBuilder(m).box({10.0, 0.0, 0.0}, {0.02, 0.02, 20.0}, 0.0, {1, SemanticClass::kPiling});
+    const SonarRenderer renderer(m, c, Resolution::kFull, 1);
+    const EchoImage e = renderer.echo(SE3::Identity(), SonarMount::kHorizontal);
+    int peak = 0;
+    for (int col = 0; col < e.cols; ++col) if (column_sum(e, col) > column_sum(e, peak)) peak = col;
+    const double main = column_sum(e, peak);
+    REQUIRE(main > 0.0);
+    // The first side lobe spans u in (1, 2), u = angle / (beam width / 0.6391).
+    const double w = c.head_h.beam_width_deg * kDeg / 0.6391;
+    double side = 0.0;
+    int side_beams = 0;
+    for (int col = 0; col < e.cols; ++col) {
+      const double u = std::abs(e.bearings_rad[static_cast<size_t>(col)] - e.bearings_rad[static_cast<size_t>(peak)]) / w;
+      if (u > 1.15 && u < 1.85) {
+        side = std::max(side, column_sum(e, col));
+        ++side_beams;
+      }
+    }
+    CHECK(side_beams >= 6);  // both sides of the target
+    INFO("side lobe " << db(side / main) << " dB, configured " << sll);
+    CHECK(db(side / main) == Approx(sll).margin(1.0));
+    // Between the main lobe and the side lobe (the first null) the echo dips below it.
+    double null_level = 1e30;
+    for (int col = 0; col < e.cols; ++col) {
+      const double u = std::abs(e.bearings_rad[static_cast<size_t>(col)] - e.bearings_rad[static_cast<size_t>(peak)]) / w;
+      if (u > 0.9 && u < 1.1) null_level = std::min(null_level, column_sum(e, col));
+    }
+    CHECK(null_level < side);
+  }
+}
+
+TEST_CASE("field profile: a surface ghost appears at the predicted range", "[hal]") {
+  SonarModelConfig c = field_config();
+  c.beam_pattern = false;
+  c.surface_reflection = 0.5;
+  // Vertical sonar 4 m below the surface looking forward; a sphere 12 m ahead at its depth.
+  // Mirror image 8 m above it: t' = sqrt(12^2 + 8^2); cross paths at (t + t') / 2, the
+  // double bounce at t'.
+  const double depth = 4.0, ahead = 12.0, radius = 0.25;
+  TriangleMesh m;
+  MeshBuilder(m).sphere({ahead, 0.0, -depth}, radius, 24, {3, SemanticClass::kOther});
+  const SonarRenderer renderer(m, c, Resolution::kFull, 1);
+  const SE3 T_W_S = se3_from_xyz_rpy(0.0, 0.0, -depth, std::numbers::pi / 2.0, 0.0, 0.0);
+  const EchoImage e = renderer.echo(T_W_S, SonarMount::kVertical);
+  const double t = ahead - radius, t2 = std::hypot(ahead - radius, 2.0 * depth);
+  const double r_cross = 0.5 * (t + t2);
+  auto energy_near = [&e](double range_m, double half_m, double min_elev, double max_elev) {
+    double s = 0.0;
+    for (int r = 0; r < e.rows; ++r) {
+      const double rr = (r + 1) * e.range_resolution_m;
+      if (std::abs(rr - range_m) > half_m) continue;
+      for (int col = 0; col < e.cols; ++col) {
+        const double el = e.bearings_rad[static_cast<size_t>(col)];
+        if (el >= min_elev && el <= max_elev) s += e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)];
+      }
+    }
+    return s;
+  };
+  const double direct = energy_near(t, 0.2, -5 * kDeg, 5 * kDeg);
+  const double elev_mirror = std::atan2(2.0 * depth, ahead);
+  const double ghost_own = energy_near(r_cross, 0.2, -5 * kDeg, 5 * kDeg);
+  const double ghost_up = energy_near(r_cross, 0.2, elev_mirror - 4 * kDeg, elev_mirror + 4 * kDeg);
+  const double ghost_double = energy_near(t2, 0.2, elev_mirror - 4 * kDeg, elev_mirror + 4 * kDeg);
+  REQUIRE(direct > 0.0);
+  INFO("direct " << direct << " cross own " << ghost_own << " cross up " << ghost_up << " double " << ghost_double);
+  // Both cross paths carry R = 0.5 of the direct echo (same aperture gain across the fan).
+  CHECK(db(ghost_own / direct) == Approx(db(0.5)).margin(1.0));
+  CHECK(db(ghost_up / direct) == Approx(db(0.5)).margin(1.0));
+  CHECK(db(ghost_double / direct) == Approx(db(0.25)).margin(1.0));
+  // Nothing between the echo and the ghost.
+  CHECK(energy_near(0.5 * (t + r_cross), 0.1, -90 * kDeg, 90 * kDeg) == 0.0);
+  // Off: no ghost.
+  c.surface_reflection = 0.0;
+  const SonarRenderer plain(m, c, Resolution::kFull, 1);
+  const EchoImage e0 = plain.echo(T_W_S, SonarMount::kVertical);
+  double far = 0.0;
+  for (int r = static_cast<int>((t + 0.5) / e0.range_resolution_m); r < e0.rows; ++r)
+    for (int col = 0; col < e0.cols; ++col) far += e0.echo[static_cast<size_t>(r) * static_cast<size_t>(e0.cols) + static_cast<size_t>(col)];
+  CHECK(far == 0.0);
+}
+
+TEST_CASE("field profile: seabed backscatter follows Lambert's law against incidence", "[hal]") {
+  SonarModelConfig c = field_config();
+  c.beam_pattern = false;
+  c.surface_reflection = 0.0;
+  c.seabed_texture = 0.0;
+  c.seabed_relief_deg = 0.0;
+  const double altitude = 5.0;
+  TriangleMesh m;  // a flat seabed 5 m below the sonar
+  MeshBuilder(m).box({0.0, 0.0, -altitude - 0.5}, {200.0, 200.0, 1.0}, 0.0, {1, SemanticClass::kSeafloor});
+  const SonarRenderer renderer(m, c, Resolution::kFull, 1);
+  // Vertical sonar: its beams measure elevation, so each beam meets the seabed at one incidence.
+  const EchoImage e = renderer.echo(se3_from_xyz_rpy(0, 0, 0, std::numbers::pi / 2.0, 0, 0), SonarMount::kVertical);
+  int checked = 0;
+  for (int col = 0; col < e.cols; ++col) {
+    const double el = e.bearings_rad[static_cast<size_t>(col)];
+    if (el > -15 * kDeg || el < -60 * kDeg) continue;  // the seabed within 30 m, away from the fan edge
+    // cos(incidence) = sin(|elevation|) for a flat bottom; each beam's weights sum to 1.
+    const double ci = std::sin(-el);
+    const double expected = c.seabed_mu * ci * ci;
+    CHECK(column_sum(e, col) == Approx(expected).epsilon(0.05));
+    ++checked;
+  }
+  CHECK(checked > 100);
+  // With texture on, the mean over many beams stays near the Lambert value (log-normal, mean 1).
+  c.seabed_texture = 0.6;
+  const SonarRenderer textured(m, c, Resolution::kFull, 1);
+  const EchoImage t = textured.echo(se3_from_xyz_rpy(0, 0, 0, std::numbers::pi / 2.0, 0, 0), SonarMount::kVertical);
+  double ratio = 0.0;
+  int n = 0;
+  for (int col = 0; col < t.cols; ++col) {
+    const double el = t.bearings_rad[static_cast<size_t>(col)];
+    if (el > -15 * kDeg || el < -60 * kDeg) continue;
+    ratio += column_sum(t, col) / (c.seabed_mu * std::sin(-el) * std::sin(-el));
+    ++n;
+  }
+  CHECK(ratio / n == Approx(1.0).epsilon(0.35));
+}
+
+TEST_CASE("field profile: echo loss with range is absorption plus spreading minus TVG", "[hal]") {
+  SonarModelConfig c = field_config();
+  const SonarRenderer renderer(TriangleMesh{}, c, Resolution::kFull, 1);
+  for (const SonarMount mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
+    const EchoImage e = renderer.echo(SE3::Identity(), mount);
+    const SonarHead& head = mount == SonarMount::kHorizontal ? c.head_h : c.head_v;
+    const double alpha = absorption_db_per_m(head.frequency_hz, c.water_temperature_c, c.salinity_ppt, c.water_ph, 0.0);
+    CHECK(renderer.absorption_db_per_m(mount) == Approx(alpha));
+    for (const double r : {2.0, 5.0, 20.0, 29.0}) {
+      const int row = static_cast<int>(std::lround(r / e.range_resolution_m)) - 1;
+      const double rr = (row + 1) * e.range_resolution_m, rref = c.tvg_reference_m;
+      // dB relative to the reference range: -(spreading + two-way absorption) + TVG.
+      const double spreading = -10.0 * c.spreading_exponent * std::log10(rr / rref);
+      const double absorption = -2.0 * alpha * (rr - rref);
+      const double tvg = 10.0 * c.tvg_exponent * std::log10(rr / rref) + c.tvg_absorption_fraction * 2.0 * alpha * (rr - rref);
+      CHECK(db(e.row_signal[static_cast<size_t>(row)]) == Approx(spreading + absorption + tvg).margin(0.01));
+      CHECK(db(e.row_noise[static_cast<size_t>(row)]) == Approx(tvg).margin(0.01));
+    }
+  }
+  // Ainslie & McColm at 10 C, 35 ppt, pH 8, surface: 0.24 dB/m at 750 kHz, 0.54 at 1.2 MHz,
+  // 1.54 at 2.1 MHz (the M1200d's 2.1 MHz mode only reaches 10 m).
+  CHECK(absorption_db_per_m(750e3, 10, 35, 8, 0) == Approx(0.22).margin(0.05));
+  CHECK(absorption_db_per_m(1.2e6, 10, 35, 8, 0) == Approx(0.50).margin(0.1));
+  CHECK(absorption_db_per_m(2.1e6, 10, 35, 8, 0) == Approx(1.45).margin(0.3));
+  CHECK(absorption_db_per_m(1.2e6, 10, 0, 8, 0) < absorption_db_per_m(1.2e6, 10, 35, 8, 0));
+}
+
+TEST_CASE("field profile: the same seed gives the same bytes; profiles differ", "[hal]") {
+  const Scene scene = *builtin_scene("marina1", 1);
+  const SE3 T = se3_from_xyz_rpy(-21, 7, -scene.vehicle_depth_m, 0, 0, std::numbers::pi / 2.0);
+  for (const SonarProfile p : {SonarProfile::kClean, SonarProfile::kField}) {
+    SonarModelConfig c;
+    apply_profile(c, p);
+    c.seafloor_depth_m = scene.seafloor_depth_m;
+    const SonarRenderer a(scene.mesh, c, Resolution::kReduced, 7), b(scene.mesh, c, Resolution::kReduced, 7);
+    for (const SonarMount mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
+      CHECK(a.render(T, mount, Time::from_s(1), 3, true).ping.image == b.render(T, mount, Time::from_s(1), 3, true).ping.image);
+    }
+  }
+  SonarModelConfig clean, field;
+  apply_profile(field, SonarProfile::kField);
+  const SonarRenderer rc(scene.mesh, clean, Resolution::kReduced, 7), rf(scene.mesh, field, Resolution::kReduced, 7);
+  CHECK(rc.render(T, SonarMount::kVertical, Time::from_s(1), 3).ping.image != rf.render(T, SonarMount::kVertical, Time::from_s(1), 3).ping.image);
+}
+
+TEST_CASE("the M1200d's 2.1 MHz mode: 60 x 12 deg, 10 m, its own bearing table", "[hal]") {
+  SimConfig c;
+  REQUIRE(apply_sim_config_yaml("profile: field\nsonar: {vertical_mode: 2.1MHz}\n", c).ok());
+  CHECK(c.profile == SonarProfile::kField);
+  CHECK(c.sonar.head_v.frequency_hz == 2.1e6);
+  const SonarRenderer r(TriangleMesh{}, c.sonar, Resolution::kFull, 1);
+  const auto& b = r.bearings_rad(SonarMount::kVertical);
+  CHECK(b.back() == Approx(30.0 * kDeg).margin(0.3 * kDeg));
+  CHECK(r.bearings_rad(SonarMount::kHorizontal).back() == Approx(65.0 * kDeg).margin(0.5 * kDeg));
+  CHECK(r.geometry(SonarMount::kVertical).range_resolution_m == Approx(10.0 / 600));
+  const auto ping = r.render(SE3::Identity(), SonarMount::kVertical, Time::from_s(1), 0).ping;
+  CHECK(ping.frequency_hz == 2.1e6);
+  CHECK(ping.max_range_m() == Approx(10.0).margin(0.02));
+  // Bad modes and profiles are errors naming the key.
+  SimConfig d;
+  const Status bad = apply_sim_config_yaml("sonar: {vertical_mode: 3MHz}\n", d);
+  REQUIRE(!bad.ok());
+  CHECK(bad.error().message.find("vertical_mode") != std::string::npos);
+  CHECK(!apply_sim_config_yaml("profile: muddy\n", d).ok());
+  // 20 pings/s at 30 m is within the two-way travel time (25 Hz); 30 is not.
+  CHECK(apply_sim_config_yaml("nav: {ping_rate_hz: 20}\n", d).ok());
+  CHECK(!apply_sim_config_yaml("nav: {ping_rate_hz: 30}\n", d).ok());
 }
 
 }  // namespace orthosonar::sim

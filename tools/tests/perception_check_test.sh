@@ -52,7 +52,7 @@ fi
 cmp -s a.json b.json || fail "JSON differs between two identical runs"
 
 echo "== 2. --fixture on a labelled fixture"
-"$exe" simulate --scene harbor --labels --resolution reduced --duration 6 -q -o labelled.mcap || fail "simulate --labels failed"
+"$exe" simulate --scene harbor --profile field --labels --resolution reduced --duration 6 -q -o labelled.mcap || fail "simulate --labels failed"
 "$exe" perception-check --fixture labelled.mcap --every 2 --json f.json >f.txt 2>f.err ||
   fail "--fixture exited $?: $(cat f.err)"
 grep -q "^== fixture labelled.mcap (profile field, as recorded)" f.txt || fail "fixture heading: $(head -3 f.txt)"
