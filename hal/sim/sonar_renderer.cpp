@@ -8,6 +8,10 @@
 #include <stdexcept>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/random.hpp"
 #include "hal/sim/embree_device.hpp"
 
@@ -701,6 +705,43 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
     const int q = lin >= static_cast<float>(kGammaLut - 1) ? kGammaLut - 1 : static_cast<int>(lin);
     return gamma_lut[q];
   };
+#if defined(__SSE2__)
+  if (cols % 4 == 0) {  // four pixels (two draws) at a time; the same IEEE single operations
+    const __m128 gain4 = _mm_set1_ps(gain), top4 = _mm_set1_ps(static_cast<float>(kGammaLut - 1));
+    alignas(16) int32_t q[4];
+    for (int r = 0; r < rows; ++r) {
+      const size_t row0 = static_cast<size_t>(r) * static_cast<size_t>(cols);
+      const __m128 rs4 = _mm_set1_ps(h.row_signal[static_cast<size_t>(r)]);
+      const __m128 nf4 = _mm_set1_ps(noise_floor * h.row_noise[static_cast<size_t>(r)]);
+      const float* a = acc + row0;
+      uint8_t* o = img + row0;
+      for (int c = 0; c < cols; c += 4) {
+        const uint64_t b0 = rng.next_u64(), b1 = rng.next_u64();
+        const auto u0 = static_cast<uint32_t>(b0), u1 = static_cast<uint32_t>(b0 >> 32);
+        const auto u2 = static_cast<uint32_t>(b1), u3 = static_cast<uint32_t>(b1 >> 32);
+        const __m128 a4 = _mm_loadu_ps(a + c);
+        if (zero_lut != nullptr && _mm_movemask_ps(_mm_cmpeq_ps(a4, _mm_setzero_ps())) == 0xF) {
+          o[c] = zero_lut[(u0 >> 12) & 0xFFF];
+          o[c + 1] = zero_lut[(u1 >> 12) & 0xFFF];
+          o[c + 2] = zero_lut[(u2 >> 12) & 0xFFF];
+          o[c + 3] = zero_lut[(u3 >> 12) & 0xFFF];
+          continue;
+        }
+        const __m128 sp4 = _mm_setr_ps(speckle[u0 & 0xFFF], speckle[u1 & 0xFFF], speckle[u2 & 0xFFF], speckle[u3 & 0xFFF]);
+        const __m128 nz4 = _mm_setr_ps(noise[(u0 >> 12) & 0xFFF], noise[(u1 >> 12) & 0xFFF], noise[(u2 >> 12) & 0xFFF],
+                                       noise[(u3 >> 12) & 0xFFF]);
+        const __m128 signal = _mm_mul_ps(_mm_mul_ps(a4, rs4), sp4);
+        const __m128 lin = _mm_mul_ps(_mm_add_ps(signal, _mm_mul_ps(nf4, nz4)), gain4);
+        // lin >= top ? top : int(lin), for the finite non-negative lin here.
+        _mm_store_si128(reinterpret_cast<__m128i*>(q), _mm_cvttps_epi32(_mm_min_ps(lin, top4)));
+        o[c] = gamma_lut[q[0]];
+        o[c + 1] = gamma_lut[q[1]];
+        o[c + 2] = gamma_lut[q[2]];
+        o[c + 3] = gamma_lut[q[3]];
+      }
+    }
+  } else
+#endif
   if (cols % 2 == 0) {  // every row starts on a fresh draw: pixel pairs (low, high 32 bits)
     for (int r = 0; r < rows; ++r) {
       const size_t row0 = static_cast<size_t>(r) * static_cast<size_t>(cols);
