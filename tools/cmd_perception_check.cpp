@@ -44,6 +44,8 @@
 #include "hal/sim/simulator.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_oculus_ping_file.hpp"
+#include "tools/support_oculus_ping_file.hpp"
 #include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
@@ -341,15 +343,9 @@ struct RealPing {
 };
 
 Result<RealPing> load_real_ping(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{"--real-ping '" + path + "': cannot open: " + std::strerror(errno)};
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) return Error{"--real-ping '" + path + "': cannot read"};
-  auto r = hal::drivers::oculus::parse_ping_result(bytes);
-  if (!r) return Error{"--real-ping '" + path + "': not an Oculus ping result: " + r.error().message};
-  auto s = hal::drivers::oculus::to_sonar_ping(*r, SonarMount::kVertical, 0, Time{});
-  if (!s) return Error{"--real-ping '" + path + "': " + s.error().message};
-  RealPing rp{path, std::move(*r), std::move(*s), {}};
+  auto f = read_oculus_ping_file(path, "--real-ping");
+  if (!f) return f.error();
+  RealPing rp{path, std::move(f->raw), std::move(f->ping), {}};
   for (int row = 0; row < rp.ping.rows; ++row)
     for (int col = 0; col < rp.ping.cols; ++col) rp.all.add(rp.ping.at(row, col));
   return rp;

@@ -8,10 +8,15 @@
 #include <numbers>
 #include <sstream>
 
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "hal/sim/simulator.hpp"
 #include "hal/sim/sonar_fan.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_oculus_ping_file.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -32,6 +37,8 @@ struct SimulateArgs {
   std::string snapshot_dir;
   std::vector<double> snapshot_at_s;
   std::string snapshot_pose;  // "x y yaw_deg": render both sonars there and exit
+  bool compare_profiles = false;  // with --snapshot-pose: clean and field side by side
+  std::string real_ping;          // with --compare-profiles: a raw Oculus ping drawn beside
   bool quiet = false;
 };
 
@@ -72,9 +79,45 @@ int run_simulate(const SimulateArgs& a) {
     if (a.snapshot_dir.empty()) return fail("--snapshot-pose needs --snapshot-dir");
     sim::SonarModelConfig sonar = cfg.sonar;
     sonar.seafloor_depth_m = scene->seafloor_depth_m;
-    const sim::SonarRenderer renderer(scene->mesh, sonar, cfg.resolution, cfg.seed);
     const SE3 T_W_V = se3_from_xyz_rpy(x, y, -scene->vehicle_depth_m, 0, 0, yaw_deg * std::numbers::pi / 180.0);
     std::filesystem::create_directories(a.snapshot_dir);
+    if (a.compare_profiles) {
+      // docs/images/<scene>_profiles.jpg: clean | field, horizontal above vertical.
+      std::vector<cv::Mat> rows;
+      for (auto mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
+        const bool h = mount == SonarMount::kHorizontal;
+        std::vector<cv::Mat> cells;
+        for (auto profile : {sim::SonarProfile::kClean, sim::SonarProfile::kField}) {
+          sim::SonarModelConfig c = sonar;
+          sim::apply_profile(c, profile);
+          const sim::SonarRenderer r(scene->mesh, c, cfg.resolution, cfg.seed);
+          cv::Mat fan = sim::fan_image(r.render(T_W_V * (h ? cfg.T_V_h : cfg.T_V_v), mount, Time::from_s(0), 0).ping, 800);
+          cv::cvtColor(fan, fan, cv::COLOR_GRAY2BGR);
+          const std::string label = std::string(sim::profile_name(profile)) + (h ? ": M750d, horizontal" : ": M1200d, vertical");
+          cv::putText(fan, label, {12, 30}, cv::FONT_HERSHEY_SIMPLEX, h ? 0.8 : 0.6, {80, 200, 255}, 2);
+          cells.push_back(fan);
+        }
+        cv::Mat row;
+        cv::hconcat(cells, row);
+        rows.push_back(row);
+      }
+      const int w = std::max(rows[0].cols, rows[1].cols);
+      for (cv::Mat& r : rows) cv::copyMakeBorder(r, r, 0, 0, 0, w - r.cols, cv::BORDER_CONSTANT, {24, 24, 24});
+      cv::Mat all;
+      cv::vconcat(rows, all);
+      const auto path = (std::filesystem::path(a.snapshot_dir) / (scene->name + "_profiles.jpg")).string();
+      if (!cv::imwrite(path, all, {cv::IMWRITE_JPEG_QUALITY, 85})) return fail("cannot write JPEG '" + path + "'");
+      if (!a.quiet) std::printf("wrote %s\n", path.c_str());
+      if (!a.real_ping.empty()) {
+        auto f = read_oculus_ping_file(a.real_ping, "--real-ping");
+        if (!f) return fail(f.error().message);
+        const auto real_path = (std::filesystem::path(a.snapshot_dir) / "oculus_m1200d_real.png").string();
+        if (Status s = sim::write_fan_png(f->ping, real_path, 560, true); !s) return fail(s.error().message);
+        if (!a.quiet) std::printf("wrote %s\n", real_path.c_str());
+      }
+      return 0;
+    }
+    const sim::SonarRenderer renderer(scene->mesh, sonar, cfg.resolution, cfg.seed);
     for (auto mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
       const bool h = mount == SonarMount::kHorizontal;
       const auto r = renderer.render(T_W_V * (h ? cfg.T_V_h : cfg.T_V_v), mount, Time::from_s(0), 0);
@@ -169,6 +212,10 @@ const bool registered = register_command(
        sub.add_option("--snapshot-dir", a->snapshot_dir, "Write fan PNGs of the pings at --snapshot-at times here");
        sub.add_option("--snapshot-at", a->snapshot_at_s, "Mission times (s) for snapshots");
        sub.add_option("--snapshot-pose", a->snapshot_pose, "Only render both sonars at 'x y yaw_deg' (vehicle depth) into --snapshot-dir");
+       sub.add_flag("--compare-profiles", a->compare_profiles,
+                    "With --snapshot-pose: write <scene>_profiles.jpg, the clean and field profiles side by side");
+       sub.add_option("--real-ping", a->real_ping,
+                      "With --compare-profiles: also draw this raw Oculus ping (oculus_m1200d_real.png)");
        sub.add_flag("-q,--quiet", a->quiet, "No summary line");
        return [a] { return run_simulate(*a); };
      }});

@@ -77,6 +77,43 @@ void rot90(const float* in, int side, float* out) {
 
 }  // namespace
 
+std::vector<Detection> cfar_detect_within(const SonarPing& p, const CfarConfig& cfg, double max_abs_bearing_rad) {
+  const auto& b = p.bearings_rad;
+  int c0 = p.cols, c1 = -1;
+  for (int c = 0; c < p.cols; ++c) {
+    if (std::abs(b[static_cast<size_t>(c)]) <= max_abs_bearing_rad) {
+      c0 = std::min(c0, c);
+      c1 = std::max(c1, c);
+    }
+  }
+  if (c1 < c0) return {};
+  // A cell's training and guard cells, and its neighbours for min_neighbours, lie within
+  // guard + train + 1 columns: with that margin the strip gives the full image's answer.
+  const int margin = std::max(0, cfg.guard_cells) + std::max(0, cfg.train_cells) + 1;
+  const int s0 = std::max(0, c0 - margin), s1 = std::min(p.cols - 1, c1 + margin);
+  std::vector<Detection> out;
+  if (s0 == 0 && s1 == p.cols - 1) {
+    out = cfar_detect(p, cfg);
+  } else {
+    SonarPing strip;
+    strip.rows = p.rows;
+    strip.cols = static_cast<uint16_t>(s1 - s0 + 1);
+    strip.bytes_per_pixel = p.bytes_per_pixel;
+    strip.range_resolution_m = p.range_resolution_m;
+    strip.bearings_rad.assign(b.begin() + s0, b.begin() + s1 + 1);
+    const size_t bpp = p.bytes_per_pixel, w = static_cast<size_t>(strip.cols) * bpp;
+    strip.image.resize(static_cast<size_t>(p.rows) * w);
+    for (int r = 0; r < p.rows; ++r) {
+      const uint8_t* src = p.image.data() + (static_cast<size_t>(r) * p.cols + static_cast<size_t>(s0)) * bpp;
+      std::copy(src, src + w, strip.image.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(r) * w));
+    }
+    out = cfar_detect(strip, cfg);
+    for (Detection& d : out) d.col += s0;
+  }
+  std::erase_if(out, [&](const Detection& d) { return d.col < c0 || d.col > c1; });
+  return out;
+}
+
 SE3 default_T_V_h() { return se3_from_xyz_rpy(0.35, 0.0, 0.0, 0.0, 0.0, 0.0); }
 SE3 default_T_V_v() { return se3_from_xyz_rpy(0.35, 0.0, -0.10, std::numbers::pi / 2, 0.0, 0.0); }
 
@@ -84,15 +121,35 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
   FusionResult res;
   if (!valid(h) || !valid(v)) return res;
   res.detections_h = cfar_detect(h, config.cfar_h);                    // step 1
-  res.detections_v = cfar_detect(v, config.cfar_v);
   const double lim = config.overlap_deg * kDeg + 1e-9;                   // step 2
+  // Only the overlap of the vertical image is ever used: search just that strip (the same
+  // detections there as a whole-image search; docs/PERCEPTION.md "Field images").
+  res.detections_v = cfar_detect_within(v, config.cfar_v, lim);
   const double res_c = std::max(h.range_resolution_m, v.range_resolution_m);
   const double inv_h = normaliser(h, config.normalise_percentile);       // step 3
   const double inv_v = normaliser(v, config.normalise_percentile);
+  const double peak_window = config.peak_window_deg * kDeg;
   auto gather = [&](const SonarPing& p, const std::vector<Detection>& dets, double inv) {
     std::vector<Candidate> out;
-    for (const Detection& d : dets) {
-      if (std::abs(p.bearings_rad[static_cast<size_t>(d.col)]) > lim) continue;
+    const auto& b = p.bearings_rad;
+    for (size_t k = 0; k < dets.size(); ++k) {
+      const Detection& d = dets[k];
+      if (std::abs(b[static_cast<size_t>(d.col)]) > lim) continue;
+      if (peak_window > 0.0) {
+        // Row-major list: the row's other detections are the neighbours in the list. Ties
+        // keep the lower column.
+        bool peak = true;
+        for (size_t n = k; n-- > 0 && dets[n].row == d.row &&
+                           std::abs(b[static_cast<size_t>(d.col)] - b[static_cast<size_t>(dets[n].col)]) <= peak_window;) {
+          if (dets[n].intensity >= d.intensity) peak = false;
+        }
+        for (size_t n = k + 1; peak && n < dets.size() && dets[n].row == d.row &&
+                               std::abs(b[static_cast<size_t>(dets[n].col)] - b[static_cast<size_t>(d.col)]) <= peak_window;
+             ++n) {
+          if (dets[n].intensity > d.intensity) peak = false;
+        }
+        if (!peak) continue;
+      }
       const long bin = std::lround(p.range_of_row(d.row) / res_c);
       out.push_back({d.row, d.col, bin, static_cast<float>(std::min(1.0, d.intensity * inv))});
     }

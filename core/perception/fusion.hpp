@@ -20,16 +20,28 @@ namespace orthosonar::perception {
 SE3 default_T_V_h();  // translation (0.35, 0, 0)
 SE3 default_T_V_v();  // translation (0.35, 0, -0.10), roll +90°
 
+inline CfarConfig with_min_neighbours(int n) {
+  CfarConfig c;
+  c.min_neighbours = n;
+  return c;
+}
+
 struct FusionConfig {
   double max_pair_dt_s = 0.1;           // pairing window (used by PingPairer users)
   double overlap_deg = 10.0;            // |θ| on h and |φ| on v must be within this
   int patch = 3;                        // side of the square patch (odd)
-  double min_confidence = 0.01;         // Eq. 6 threshold; SPEC 0.05, tuned on simulation (docs/PERCEPTION.md)
+  double min_confidence = 0.05;         // Eq. 6 threshold (SPEC; docs/PERCEPTION.md "Field images")
   double normalise_percentile = 0.99;   // per-image normaliser, clamped to 1 after
   bool rotate_v_patch = true;           // Eq. 5 compares ν_h with rot90(ν_v); false: ν_v as is
+  // Addition (docs/PERCEPTION.md "Field images"): a candidate in the overlap is kept only if
+  // no detection of its row within ±peak_window_deg (bearing on h, elevation on v) is
+  // brighter, so a target blurred across the beam's main lobe fuses at its peak beam. 0 = off.
+  double peak_window_deg = 1.0;
   SE3 T_V_h = default_T_V_h();
   SE3 T_V_v = default_T_V_v();
-  CfarConfig cfar_h, cfar_v;
+  // SPEC CFAR with the isolated-speckle filter on (3 of 8 neighbours) against the field
+  // profile's TVG-lifted far-range speckle (docs/PERCEPTION.md "Field images").
+  CfarConfig cfar_h = with_min_neighbours(3), cfar_v = with_min_neighbours(3);
 };
 
 struct FusedPoint {
@@ -45,7 +57,7 @@ struct FusedPoint {
 struct FusionResult {
   std::vector<FusedPoint> points;             // ordered by (h row, h col)
   std::vector<Detection> detections_h;        // all CFAR detections, row-major
-  std::vector<Detection> detections_v;
+  std::vector<Detection> detections_v;        // inside the overlap only (the rest is never used)
   size_t candidates_h = 0;                    // detections inside the overlap
   size_t candidates_v = 0;
   size_t subproblems = 0;                     // range bins with candidates on both sides
@@ -54,6 +66,11 @@ struct FusionResult {
 };
 
 FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfig& config);
+
+// CFAR detections of the beams with |bearing| <= max_abs_bearing_rad, computed on that strip
+// of the image plus the margin its windows need: the same list as cfar_detect on the whole
+// image restricted to those beams.
+std::vector<Detection> cfar_detect_within(const SonarPing& p, const CfarConfig& cfg, double max_abs_bearing_rad);
 
 // Horizontal detections as planar points in V (φ = 0; SLAM, paper §IV-A): x, y of
 // T_V_h * Eq.1(R, θ, 0).

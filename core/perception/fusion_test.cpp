@@ -130,3 +130,63 @@ TEST_CASE("Default extrinsics: v is h rolled +90 degrees about x", "[unit]") {
   CHECK(std::abs(d.y()) < 1e-12);
   CHECK(default_T_V_v().translation().z() == Approx(-0.10));
 }
+
+TEST_CASE("The overlap strip's CFAR equals the whole image's CFAR restricted to the overlap", "[unit]") {
+  Rng rng(77);
+  for (int trial = 0; trial < 40; ++trial) {
+    SonarPing p;
+    p.rows = static_cast<uint16_t>(20 + rng.below(200));
+    p.cols = static_cast<uint16_t>(8 + rng.below(300));
+    p.bytes_per_pixel = trial % 5 == 4 ? 2 : 1;
+    const double half = (20.0 + 50.0 * rng.uniform()) * std::numbers::pi / 180.0;
+    for (int c = 0; c < p.cols; ++c) p.bearings_rad.push_back(-half + 2.0 * half * c / (p.cols - 1));
+    p.image.resize(static_cast<size_t>(p.rows) * p.cols * p.bytes_per_pixel);
+    for (auto& x : p.image) x = static_cast<uint8_t>(rng.uniform() < 0.05 ? 200 + rng.below(56) : rng.below(90));
+    CfarConfig cfg;
+    cfg.window = trial % 2 ? CfarWindow::kCross : CfarWindow::kRange;
+    cfg.method = trial % 3 == 0 ? CfarMethod::kCa : CfarMethod::kSoca;
+    cfg.train_cells = 1 + static_cast<int>(rng.below(25));
+    cfg.guard_cells = static_cast<int>(rng.below(6));
+    cfg.gate = trial % 4 == 0 ? 0.0 : 65.0;
+    cfg.min_neighbours = static_cast<int>(rng.below(4));
+    const double lim = (2.0 + 25.0 * rng.uniform()) * std::numbers::pi / 180.0;
+    std::vector<Detection> whole = cfar_detect(p, cfg);
+    std::erase_if(whole, [&](const Detection& d) { return std::abs(p.bearings_rad[static_cast<size_t>(d.col)]) > lim; });
+    const std::vector<Detection> strip = cfar_detect_within(p, cfg, lim);
+    REQUIRE(strip.size() == whole.size());
+    for (size_t i = 0; i < strip.size(); ++i) {
+      CHECK(strip[i].row == whole[i].row);
+      CHECK(strip[i].col == whole[i].col);
+      CHECK(strip[i].intensity == whole[i].intensity);
+    }
+  }
+}
+
+TEST_CASE("peak_window_deg keeps one candidate per main lobe: a blurred target fuses at its peak beam", "[unit]") {
+  // h: a target blurred over 7 beams at one range, brightest in the middle; v: one target.
+  SonarPing h, v;
+  for (SonarPing* p : {&h, &v}) {
+    p->rows = 200;
+    p->cols = 256;
+    p->range_resolution_m = 0.05;
+    for (int c = 0; c < p->cols; ++c) p->bearings_rad.push_back((-32.0 + 64.0 * c / 255.0) * std::numbers::pi / 180.0);
+    p->image.assign(static_cast<size_t>(p->rows) * p->cols, 5);
+  }
+  h.mount = SonarMount::kHorizontal;
+  v.mount = SonarMount::kVertical;
+  const int row = 120, mid = 128;
+  const uint8_t blur[7] = {120, 160, 200, 250, 200, 160, 120};
+  for (int k = 0; k < 7; ++k) h.image[static_cast<size_t>(row) * h.cols + static_cast<size_t>(mid - 3 + k)] = blur[k];
+  v.image[static_cast<size_t>(row) * v.cols + static_cast<size_t>(mid)] = 250;
+  FusionConfig cfg;
+  cfg.min_confidence = 0.0;
+  cfg.cfar_h.min_neighbours = cfg.cfar_v.min_neighbours = 0;  // one-row targets
+  cfg.peak_window_deg = 0.0;
+  const FusionResult all = fuse_pair(h, v, cfg);
+  cfg.peak_window_deg = 1.0;
+  const FusionResult peak = fuse_pair(h, v, cfg);
+  CHECK(all.candidates_h == 7);
+  REQUIRE(peak.candidates_h == 1);
+  REQUIRE(peak.points.size() == 1);
+  CHECK(peak.points[0].bearing_rad == Approx(h.bearings_rad[static_cast<size_t>(mid)]));
+}

@@ -45,16 +45,17 @@ Result<SonarProfile> parse_profile(const std::string& s) {
 }
 
 void apply_profile(SonarModelConfig& c, SonarProfile p) {
-  const bool field = p == SonarProfile::kField;
-  c.noise_floor = field ? 0.00004 : 0.0003;
-  c.gain = 12.0;
-  c.beam_pattern = field;
-  c.surface_reflection = field ? 0.35 : 0.0;
-  c.seabed_reflection = 0.0;
-  c.seabed_lambert = field;
-  c.absorption_scale = field ? 1.0 : 0.0;
-  c.tvg_absorption_fraction = field ? 0.3 : 0.0;
-  c.noise_before_tvg = field;
+  const SonarModelConfig field;  // the struct's defaults are the field profile
+  const bool f = p == SonarProfile::kField;
+  c.noise_floor = f ? field.noise_floor : 0.0003;
+  c.gain = field.gain;
+  c.beam_pattern = f;
+  c.surface_reflection = f ? field.surface_reflection : 0.0;
+  c.seabed_reflection = f ? field.seabed_reflection : 0.0;
+  c.seabed_lambert = f;
+  c.absorption_scale = f ? field.absorption_scale : 0.0;
+  c.tvg_absorption_fraction = f ? field.tvg_absorption_fraction : 0.0;
+  c.noise_before_tvg = f;
 }
 
 double absorption_db_per_m(double f_hz, double T, double S, double pH, double depth_m) {

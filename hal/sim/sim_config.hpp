@@ -38,8 +38,7 @@ SonarHead oculus_m1200d_2100khz();
 // The image formation profile. kField models what real Oculus images show: beam
 // side lobes, surface multipath, Lambertian seabed with texture and relief, absorption, the
 // device's TVG lifting the noise floor with range. kClean is the earlier calibration: no
-// artefacts, a dark water column, range-independent noise. kClean stays the default until
-// perception is tuned for kField (issue 19).
+// artefacts, a dark water column, range-independent noise. kField is the default.
 enum class SonarProfile { kField, kClean };
 const char* profile_name(SonarProfile p);
 Result<SonarProfile> parse_profile(const std::string& s);
@@ -60,28 +59,27 @@ struct SonarModelConfig {
   std::array<double, kSemanticClassCount> reflectivity = {0.0, 0.35, 0.9, 0.8, 0.85,
                                                           0.95, 0.75, 1.0, 0.6};
   int speckle_looks = 2;               // multiplicative speckle: Gamma(L, 1/L), mean 1
-  double noise_floor = 0.0003;         // additive noise at tvg_reference_m (linear units, exponential intensity); docs/SCENES.md "Calibration" (field: 0.00004)
+  double noise_floor = 0.000005;       // additive noise at tvg_reference_m (linear units, exponential intensity); docs/SCENES.md "Calibration" (clean: 0.0003)
   double tvg_exponent = 2.0;           // time-varied gain r^q (q = p: range-independent targets)
   double tvg_reference_m = 10.0;       // range where the TVG is 1
   double gain = 12.0;                  // linear gain before quantisation
   double gamma = 0.5;                  // display gamma of the 8-bit image
   double gain_percent = 50.0;          // what the ping reports as its gain setting
-  // --- field profile: apply_profile(kField) switches these on (the struct's defaults are the
-  // clean profile's, SimConfig::profile's default, until the field profile's tuning lands) ---
-  bool beam_pattern = false;           // azimuth beam pattern: main lobe of head.beam_width_deg + side lobes
+  // --- field profile (the defaults); apply_profile(kClean) switches these off ---
+  bool beam_pattern = true;            // azimuth beam pattern: main lobe of head.beam_width_deg + side lobes
   double side_lobe_db = -28.0;         // first side-lobe peak, two-way, re the main lobe
   double side_lobe_floor_db = -55.0;   // the pattern is truncated below this
-  double surface_reflection = 0.0;     // intensity reflection coefficient of the sea surface (z = 0)
+  double surface_reflection = 0.1;     // intensity reflection coefficient of the sea surface (z = 0)
   double seabed_reflection = 0.0;      // of the seabed plane at the scene's seafloor depth (optional)
-  bool seabed_lambert = false;         // seafloor backscatter mu cos^2(theta) with texture and relief
+  bool seabed_lambert = true;          // seafloor backscatter mu cos^2(theta) with texture and relief
   double seabed_mu = 0.50;             // Lambert's mu (linear, same units as reflectivity)
   double seabed_texture = 0.6;         // grain texture: log-normal sigma of the backscatter
   double seabed_texture_scale_m = 0.4; // its correlation length
   double seabed_relief_deg = 6.0;      // RMS slope of the relief (normal perturbation)
   double seabed_relief_scale_m = 1.5;  // its correlation length
-  double absorption_scale = 0.0;       // multiplies each head's absorption (0 = none)
-  double tvg_absorption_fraction = 0.0;  // share of the two-way absorption the TVG gives back
-  bool noise_before_tvg = false;       // the noise floor is amplified by the TVG (rises with range)
+  double absorption_scale = 1.0;       // multiplies each head's absorption (0 = none)
+  double tvg_absorption_fraction = 1.0;  // share of the two-way absorption the TVG gives back
+  bool noise_before_tvg = true;        // the noise floor is amplified by the TVG (rises with range)
   double water_temperature_c = 12.0;   // for the absorption model
   double salinity_ppt = 35.0;
   double water_ph = 8.0;
@@ -132,7 +130,7 @@ struct NavConfig {
 };
 
 struct SimConfig {
-  SonarProfile profile = SonarProfile::kClean;  // what apply_profile gave `sonar` (YAML: profile)
+  SonarProfile profile = SonarProfile::kField;  // what apply_profile gave `sonar` (YAML: profile)
   double duration_s = 60.0;
   uint64_t seed = 1;                   // noise seed (scene geometry has its own seed)
   Resolution resolution = Resolution::kFull;
