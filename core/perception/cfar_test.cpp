@@ -1,7 +1,18 @@
 // CFAR: false-alarm rate on exponential-power noise (CA, where α is exact), agreement
-// with a brute-force reference (every method, window and edge), and basic behaviour.
+// with a brute-force reference (every method, window and edge), bit-identical agreement
+// of the row-wise fast path with the previous per-cell implementation (random and
+// realistic images, 8-bit, 16-bit and float, every config), and basic behaviour.
+#include <rapidcheck/catch.h>
+
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/perception/cfar.hpp"
@@ -20,7 +31,7 @@ std::vector<float> exponential_noise(int rows, int cols, double mean, uint64_t s
 }
 
 // Direct summation over the training cells, same rules as the header states.
-std::vector<Detection> reference_cfar(const std::vector<float>& img, int rows, int cols, const CfarConfig& cfg) {
+std::vector<Detection> brute_force_cfar(const std::vector<float>& img, int rows, int cols, const CfarConfig& cfg) {
   std::vector<Detection> out;
   const int t = cfg.train_cells, g = cfg.guard_cells;
   auto at = [&](int r, int c) { return static_cast<double>(img[static_cast<size_t>(r * cols + c)]); };
@@ -69,6 +80,185 @@ std::vector<Detection> reference_cfar(const std::vector<float>& img, int rows, i
   }
   return out;
 }
+
+// ---------------------------------------------------------------------------------------
+// The implementation before the row-wise fast path (per-cell prefix-sum test), kept verbatim
+// as the reference the fast path must match bit for bit, for every input and config.
+
+// Keeps detections with at least `min_n` of their 8 neighbours detected (neighbours
+// counted in the unfiltered set), using a rows x cols occupancy mask.
+std::vector<Detection> reference_filter_isolated(std::vector<Detection> dets, int min_n, int rows, int cols) {
+  if (min_n <= 0 || dets.empty()) return dets;
+  const size_t C = static_cast<size_t>(cols);
+  std::vector<uint8_t> mask(static_cast<size_t>(rows) * C, 0);
+  for (const Detection& d : dets) mask[static_cast<size_t>(d.row) * C + static_cast<size_t>(d.col)] = 1;
+  std::vector<Detection> kept;
+  for (const Detection& d : dets) {
+    int n = 0;
+    for (int r = std::max(0, d.row - 1); r <= std::min(rows - 1, d.row + 1); ++r)
+      for (int c = std::max(0, d.col - 1); c <= std::min(cols - 1, d.col + 1); ++c)
+        n += mask[static_cast<size_t>(r) * C + static_cast<size_t>(c)];
+    if (n - 1 >= min_n) kept.push_back(d);  // minus the cell itself
+  }
+  return kept;
+}
+
+// Prefix sums along range (per column) and along bearing (per row): O(1) per cell.
+// Acc is exact (integer) for integer images, so the ratio test below is exactly
+// scale-invariant: x N / S is a correctly rounded quotient of exactly scaled integers.
+template <class Pixel, class Acc>
+std::vector<Detection> reference_detect(const Pixel* img, int rows, int cols, const CfarConfig& cfg) {
+  std::vector<Detection> out;
+  if (rows <= 0 || cols <= 0 || cfg.train_cells <= 0 || cfg.guard_cells < 0) return out;
+  const size_t C = static_cast<size_t>(cols);
+  const bool cross = cfg.window == CfarWindow::kCross;
+  // Column prefix sums along range, P_i[c] = sum of rows [0, i) in column c, kept in a
+  // ring of the K most recent rows: a cell only ever needs P between its leading and
+  // lagging window ends, at most 2(g + t) + 1 rows apart. O(K cols) memory, cache-resident.
+  const int K = 2 * (cfg.guard_cells + cfg.train_cells) + 2;
+  std::vector<Acc> ring(static_cast<size_t>(K) * C, Acc{0});
+  auto prefix_row = [&](int i) { return ring.data() + static_cast<size_t>(i % K) * C; };
+  int computed = 0;  // P_0 .. P_computed are available (P_0 = 0 is the ring's zero row)
+  // Row prefix sums along bearing for the current row: Q[c] = sum of cols [0, c).
+  std::vector<Acc> q(C + 1, Acc{0});
+  std::vector<int> cand(C);
+  // x > gate, exactly, in the pixel's own type: for integers x > gate <=> x > floor(gate).
+  const double gate_floor = std::floor(std::clamp(cfg.gate, -1.0, 1e6));
+  const auto gate_i = static_cast<int64_t>(gate_floor);
+  const double gate_d = cfg.gate;
+  auto above_gate = [gate_i, gate_d](Pixel x) {
+    if constexpr (std::is_integral_v<Pixel>) {
+      return static_cast<int64_t>(x) > gate_i;
+    } else {
+      return static_cast<double>(x) > gate_d;
+    }
+  };
+  const int t = cfg.train_cells, g = cfg.guard_cells;
+  const int max_n = cross ? 4 * t : 2 * t;
+  std::vector<double> alpha(static_cast<size_t>(max_n) + 1, 0.0);
+  for (int n = 1; n <= max_n; ++n) alpha[static_cast<size_t>(n)] = cfar_alpha(n, cfg.pfa);
+
+  using Wide = std::conditional_t<std::is_integral_v<Acc>, int64_t, double>;
+  Wide sums[4];
+  int counts[4];
+  for (int r = 0; r < rows; ++r) {
+    // Range extents do not depend on the column.
+    const int lead_lo = std::max(0, r - g - t), lead_hi = r - g;          // rows [lo, hi)
+    const int lag_lo = r + g + 1, lag_hi = std::min(rows, r + g + 1 + t);
+    const int n_lead = std::max(0, lead_hi - lead_lo), n_lag = std::max(0, lag_hi - lag_lo);
+    while (computed < lag_hi) {  // P_{i+1} = P_i + row i
+      const Acc* prev = prefix_row(computed);
+      Acc* next = prefix_row(computed + 1);
+      const Pixel* src = img + static_cast<size_t>(computed) * C;
+      for (size_t c = 0; c < C; ++c) next[c] = prev[c] + static_cast<Acc>(src[c]);
+      ++computed;
+    }
+    const Pixel* line = img + static_cast<size_t>(r) * C;
+    // Cells above the gate, branch-free (most of a sonar image is below it).
+    size_t n_cand = 0;
+    for (size_t c = 0; c < C; ++c) {
+      cand[n_cand] = static_cast<int>(c);
+      n_cand += above_gate(line[c]) ? 1u : 0u;
+    }
+    if (n_cand == 0) continue;
+    if (cross) {
+      Acc acc{0};
+      for (size_t c = 0; c < C; ++c) {
+        acc += static_cast<Acc>(line[c]);
+        q[c + 1] = acc;
+      }
+    }
+    const Acc* lead_a = prefix_row(std::max(lead_lo, 0));
+    const Acc* lead_b = prefix_row(std::max(lead_hi, 0));
+    const Acc* lag_a = prefix_row(std::min(lag_lo, rows));
+    const Acc* lag_b = prefix_row(lag_hi);
+    for (size_t ci = 0; ci < n_cand; ++ci) {
+      const int c = cand[ci];
+      const Pixel x = line[c];
+      int k = 0;
+      if (n_lead > 0) {
+        sums[k] = static_cast<Wide>(lead_b[c] - lead_a[c]);
+        counts[k++] = n_lead;
+      }
+      if (n_lag > 0) {
+        sums[k] = static_cast<Wide>(lag_b[c] - lag_a[c]);
+        counts[k++] = n_lag;
+      }
+      if (cross) {
+        const int left_lo = std::max(0, c - g - t), left_hi = c - g;
+        const int right_lo = c + g + 1, right_hi = std::min(cols, c + g + 1 + t);
+        if (left_hi > left_lo) {
+          sums[k] = static_cast<Wide>(q[static_cast<size_t>(left_hi)] - q[static_cast<size_t>(left_lo)]);
+          counts[k++] = left_hi - left_lo;
+        }
+        if (right_hi > right_lo) {
+          sums[k] = static_cast<Wide>(q[static_cast<size_t>(right_hi)] - q[static_cast<size_t>(right_lo)]);
+          counts[k++] = right_hi - right_lo;
+        }
+      }
+      if (k == 0) continue;
+      Wide s = sums[0];
+      int n = counts[0];
+      if (cfg.method == CfarMethod::kCa) {
+        for (int i = 1; i < k; ++i) {
+          s += sums[i];
+          n += counts[i];
+        }
+      } else {
+        // Compare means s_i / n_i exactly by cross-multiplication; ties keep the first
+        // side in the fixed order (lead, lag, left, right).
+        const bool smallest = cfg.method == CfarMethod::kSoca;
+        for (int i = 1; i < k; ++i) {
+          const Wide a = sums[i] * static_cast<Wide>(n), b = s * static_cast<Wide>(counts[i]);
+          if (smallest ? a < b : a > b) {
+            s = sums[i];
+            n = counts[i];
+          }
+        }
+      }
+      const Wide xn = static_cast<Wide>(x) * static_cast<Wide>(n);
+      bool hit;
+      if (!(s > Wide{0})) {
+        hit = static_cast<double>(x) > 0.0;  // β = 0
+      } else {
+        // The rule is fl(x N / S) > α: a correctly rounded quotient of exactly scaled
+        // sums, hence exactly scale-invariant. Products decide it unless x N is within
+        // a relative 1e-12 of α S, where the quotient itself is computed.
+        const double a = alpha[static_cast<size_t>(n)];
+        const double lhs = static_cast<double>(xn), rhs = a * static_cast<double>(s);
+        if (lhs > rhs * (1.0 + 1e-12)) {
+          hit = true;
+        } else if (lhs < rhs * (1.0 - 1e-12)) {
+          hit = false;
+        } else {
+          hit = lhs / static_cast<double>(s) > a;
+        }
+      }
+      if (hit) out.push_back({r, c, static_cast<float>(x)});
+    }
+  }
+  return reference_filter_isolated(std::move(out), cfg.min_neighbours, rows, cols);
+}
+
+
+std::vector<Detection> reference_cfar(const SonarPing& ping, const CfarConfig& config) {
+  const int rows = ping.rows, cols = ping.cols;
+  const size_t n = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+  if (ping.bytes_per_pixel == 1) {
+    if (ping.image.size() < n) return {};
+    return reference_detect<uint8_t, int32_t>(ping.image.data(), rows, cols, config);
+  }
+  if (ping.image.size() < 2 * n) return {};
+  std::vector<uint16_t> wide(n);
+  for (size_t i = 0; i < n; ++i)
+    wide[i] = static_cast<uint16_t>(ping.image[2 * i] | (ping.image[2 * i + 1] << 8));
+  return reference_detect<uint16_t, int64_t>(wide.data(), rows, cols, config);
+}
+
+std::vector<Detection> reference_cfar(const float* image, int rows, int cols, const CfarConfig& config) {
+  return reference_detect<float, double>(image, rows, cols, config);
+}
+// ---------------------------------------------------------------------------------------
 
 double false_alarm_rate(CfarMethod method, CfarWindow window, double pfa) {
   const int rows = 1000, cols = 1000;
@@ -121,7 +311,7 @@ TEST_CASE("Prefix-sum CFAR equals the brute-force reference including edges", "[
     cfg.pfa = 0.05;
     cfg.gate = static_cast<double>(rng.below(100));
     const auto fast = cfar_detect(img.data(), rows, cols, cfg);
-    const auto slow = reference_cfar(img, rows, cols, cfg);
+    const auto slow = brute_force_cfar(img, rows, cols, cfg);
     INFO("trial " << trial << " " << rows << "x" << cols);
     REQUIRE(fast.size() == slow.size());
     for (size_t i = 0; i < fast.size(); ++i) {
@@ -181,4 +371,266 @@ TEST_CASE("min_neighbours removes isolated detections and keeps blobs", "[unit]"
   REQUIRE(d.size() == 9);
   CHECK(d.front().row == 30);
   CHECK(d.front().col == 40);
+}
+
+// ---------------------------------------------------------------------------------------
+// Fast path == previous implementation, bit for bit.
+namespace {
+
+enum class Depth { k8, k16, kFloat };
+
+const char* depth_name(Depth d) { return d == Depth::k8 ? "u8" : d == Depth::k16 ? "u16" : "float"; }
+
+std::string describe(const CfarConfig& c, int rows, int cols, Depth d) {
+  std::ostringstream os;
+  os.precision(17);
+  os << depth_name(d) << " " << rows << "x" << cols << " " << to_string(c.method) << " " << to_string(c.window)
+     << " t=" << c.train_cells << " g=" << c.guard_cells << " pfa=" << c.pfa << " gate=" << c.gate
+     << " min_n=" << c.min_neighbours;
+  return os.str();
+}
+
+// Integer-valued test images (0 .. maxv) in one of several styles: uniform, tiny value
+// range (many exactly tied means), exponential speckle, sparse bright cells on zero,
+// saturated and zero blocks on speckle, constant.
+std::vector<double> random_values(Rng& rng, int rows, int cols, double maxv, int style) {
+  const size_t n = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+  std::vector<double> v(n, 0.0);
+  const double mean = rng.uniform(0.02, 0.6) * maxv;
+  auto speckle = [&] { return std::min(maxv, std::floor(rng.exponential(mean))); };
+  switch (style) {
+    case 0:
+      for (double& x : v) x = static_cast<double>(rng.below(static_cast<uint64_t>(maxv) + 1));
+      break;
+    case 1: {
+      const uint64_t k = 1 + rng.below(4);
+      for (double& x : v) x = static_cast<double>(rng.below(k + 1));
+      break;
+    }
+    case 2:
+      for (double& x : v) x = speckle();
+      break;
+    case 3:
+      for (double& x : v) x = rng.below(8) == 0 ? static_cast<double>(rng.below(static_cast<uint64_t>(maxv) + 1)) : 0.0;
+      break;
+    case 4: {
+      for (double& x : v) x = speckle();
+      const int blocks = 1 + static_cast<int>(rng.below(4));
+      for (int b = 0; b < blocks; ++b) {
+        const int r0 = static_cast<int>(rng.below(static_cast<uint64_t>(rows)));
+        const int c0 = static_cast<int>(rng.below(static_cast<uint64_t>(cols)));
+        const int h = 1 + static_cast<int>(rng.below(static_cast<uint64_t>(rows)));
+        const int w = 1 + static_cast<int>(rng.below(static_cast<uint64_t>(cols)));
+        const double value = rng.below(2) == 0 ? maxv : 0.0;
+        for (int r = r0; r < std::min(rows, r0 + h); ++r)
+          for (int c = c0; c < std::min(cols, c0 + w); ++c) v[static_cast<size_t>(r) * static_cast<size_t>(cols) + static_cast<size_t>(c)] = value;
+      }
+      break;
+    }
+    default: {
+      const double value = rng.below(3) == 0 ? maxv : rng.below(2) == 0 ? 0.0 : std::floor(rng.uniform(0.0, maxv));
+      for (double& x : v) x = value;
+      break;
+    }
+  }
+  return v;
+}
+
+SonarPing ping_from(const std::vector<double>& v, int rows, int cols, Depth d) {
+  SonarPing p;
+  p.rows = static_cast<uint16_t>(rows);
+  p.cols = static_cast<uint16_t>(cols);
+  p.bytes_per_pixel = static_cast<uint8_t>(d == Depth::k16 ? 2 : 1);
+  p.image.resize(v.size() * static_cast<size_t>(p.bytes_per_pixel));
+  for (size_t i = 0; i < v.size(); ++i) {
+    const auto x = static_cast<uint16_t>(v[i]);
+    if (d == Depth::k16) {
+      p.image[2 * i] = static_cast<uint8_t>(x & 0xFF);
+      p.image[2 * i + 1] = static_cast<uint8_t>(x >> 8);
+    } else {
+      p.image[i] = static_cast<uint8_t>(x);
+    }
+  }
+  return p;
+}
+
+bool same_detections(const std::vector<Detection>& a, const std::vector<Detection>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].row != b[i].row || a[i].col != b[i].col) return false;
+    if (std::memcmp(&a[i].intensity, &b[i].intensity, sizeof(float)) != 0) return false;
+  }
+  return true;
+}
+
+// Runs the fast path and the reference on the same image; returns "" when they agree.
+std::string compare_once(const std::vector<double>& v, int rows, int cols, Depth d, const CfarConfig& cfg,
+                         bool real_valued = false, size_t* n_detections = nullptr) {
+  std::vector<Detection> fast, ref;
+  if (d == Depth::kFloat) {
+    std::vector<float> img(v.size());
+    for (size_t i = 0; i < v.size(); ++i) img[i] = static_cast<float>(v[i]);
+    fast = cfar_detect(img.data(), rows, cols, cfg);
+    ref = reference_cfar(img.data(), rows, cols, cfg);
+  } else {
+    const SonarPing p = ping_from(v, rows, cols, d);
+    fast = cfar_detect(p, cfg);
+    ref = reference_cfar(p, cfg);
+  }
+  if (n_detections) *n_detections = ref.size();
+  if (same_detections(fast, ref)) return "";
+  std::ostringstream os;
+  os << describe(cfg, rows, cols, d) << (real_valued ? " real-valued" : "") << ": fast " << fast.size()
+     << " detections, reference " << ref.size();
+  for (size_t i = 0; i < std::min(fast.size(), ref.size()); ++i) {
+    if (fast[i].row != ref[i].row || fast[i].col != ref[i].col || fast[i].intensity != ref[i].intensity) {
+      os << "; first difference at #" << i << ": fast (" << fast[i].row << "," << fast[i].col << ") reference ("
+         << ref[i].row << "," << ref[i].col << ")";
+      break;
+    }
+  }
+  return os.str();
+}
+
+// Configs that reach every branch: train/guard wider than the image, gates below 0, at
+// and above the top of the pixel range, pfa giving α = 0, < 0, +inf and NaN.
+CfarConfig random_config(Rng& rng, Depth d) {
+  CfarConfig cfg;
+  cfg.method = static_cast<CfarMethod>(rng.below(3));
+  cfg.window = rng.below(2) == 0 ? CfarWindow::kCross : CfarWindow::kRange;
+  const uint64_t tk = rng.below(20);
+  cfg.train_cells = tk < 13 ? 1 + static_cast<int>(rng.below(12)) : tk < 16 ? 20 : tk < 19 ? 1 + static_cast<int>(rng.below(200)) : -static_cast<int>(rng.below(2));
+  const uint64_t gk = rng.below(20);
+  cfg.guard_cells = gk < 14 ? static_cast<int>(rng.below(6)) : gk < 16 ? 5 : gk < 19 ? static_cast<int>(rng.below(100)) : -1;
+  const double maxv = d == Depth::k16 ? 65535.0 : 255.0;
+  static const double gates[] = {-3.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 64.9, 65.0, 254.0, 254.5, 255.0, 256.0, 65534.0, 65535.0, 1e7};
+  const uint64_t gk2 = rng.below(10);
+  cfg.gate = gk2 < 5 ? gates[rng.below(std::size(gates))] : gk2 < 8 ? std::floor(rng.uniform(-2.0, maxv + 2.0)) : rng.uniform(-2.0, 0.5 * maxv);
+  static const double pfas[] = {0.1, 0.1, 0.1, 0.05, 0.01, 1e-3, 1e-6, 0.3, 0.5, 0.9, 0.999999, 1.0, 1.5, 0.0, -0.2, 1e-300, 5e-324};
+  cfg.pfa = rng.below(4) == 0 ? rng.uniform(1e-4, 0.5) : pfas[rng.below(std::size(pfas))];
+  cfg.min_neighbours = rng.below(5) == 0 ? static_cast<int>(rng.below(9)) : 0;
+  return cfg;
+}
+
+void random_size(Rng& rng, int& rows, int& cols) {
+  const uint64_t k = rng.below(12);
+  const int top = k < 5 ? 12 : k < 9 ? 70 : 160;
+  rows = 1 + static_cast<int>(rng.below(static_cast<uint64_t>(top)));
+  cols = 1 + static_cast<int>(rng.below(static_cast<uint64_t>(top)));
+  if (k >= 10) {  // wide and short: interiors with long windows (N > 128, 32-bit lanes)
+    rows = 1 + static_cast<int>(rng.below(24));
+    cols = 200 + static_cast<int>(rng.below(300));
+  }
+}
+
+// One random case from one seed; "" when fast and reference agree.
+std::string random_case(uint64_t seed, Depth d) {
+  Rng rng(seed);
+  int rows, cols;
+  random_size(rng, rows, cols);
+  CfarConfig cfg = random_config(rng, d);
+  if (cols >= 200 && rng.below(2) == 0) cfg.train_cells = 100 + static_cast<int>(rng.below(100));
+  const double maxv = d == Depth::k16 ? (rng.below(3) == 0 ? 300.0 : 65535.0) : 255.0;
+  const int style = static_cast<int>(rng.below(6));
+  std::vector<double> v = random_values(rng, rows, cols, maxv, style);
+  bool real_valued = false;
+  if (d == Depth::kFloat && rng.below(2) == 0) {  // non-integer floats too
+    real_valued = true;
+    for (double& x : v) x = x * rng.uniform(0.5, 1.5) + (rng.below(4) == 0 ? 0.0 : rng.uniform(0.0, 1.0));
+  }
+  return compare_once(v, rows, cols, d, cfg, real_valued);
+}
+
+// Exponential speckle like a real ping: a weak near field, a bright curved wall, a
+// seafloor band where about half of the cells are above the default gate.
+std::vector<double> sonar_like(int rows, int cols, double maxv, double scale, uint64_t seed) {
+  Rng rng(seed);
+  std::vector<double> v(static_cast<size_t>(rows) * static_cast<size_t>(cols));
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const double u = -1.0 + 2.0 * (c + 0.5) / cols;
+      const double wall_row = 160.0 / std::max(0.2, std::cos(1.1 * u));
+      double mean = r > 380 ? 95.0 : 12.0;
+      if (std::abs(r - wall_row) < 2.0) mean = 180.0;
+      v[static_cast<size_t>(r) * static_cast<size_t>(cols) + static_cast<size_t>(c)] =
+          std::min(maxv, std::floor(rng.exponential(mean * scale)));
+    }
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("Fast CFAR equals the previous implementation on random images and configs", "[unit]") {
+  // Seeded loops: many small images (most smaller than the window), every depth.
+  for (Depth d : {Depth::k8, Depth::k16, Depth::kFloat}) {
+    const int trials = d == Depth::k8 ? 4000 : 1500;
+    int failures = 0;
+    for (int i = 0; i < trials && failures < 5; ++i) {
+      const std::string diff = random_case(derive_seed(20261201, static_cast<uint64_t>(d), static_cast<uint64_t>(i)), d);
+      if (!diff.empty()) {
+        ++failures;
+        FAIL_CHECK("seed index " << i << ": " << diff);
+      }
+    }
+    CHECK(failures == 0);
+  }
+}
+
+TEST_CASE("Fast CFAR equals the previous implementation (property)", "[unit][property]") {
+  rc::prop("cfar_detect == reference_cfar", [] {
+    const Depth d = *rc::gen::element(Depth::k8, Depth::k8, Depth::k16, Depth::kFloat);
+    const uint64_t seed = *rc::gen::arbitrary<uint64_t>();
+    const int rows = *rc::gen::inRange(1, 90), cols = *rc::gen::inRange(1, 90);
+    CfarConfig cfg;
+    cfg.method = *rc::gen::element(CfarMethod::kSoca, CfarMethod::kCa, CfarMethod::kGoca);
+    cfg.window = *rc::gen::element(CfarWindow::kCross, CfarWindow::kRange);
+    cfg.train_cells = *rc::gen::inRange(1, 30);
+    cfg.guard_cells = *rc::gen::inRange(0, 9);
+    cfg.gate = *rc::gen::element(-1.0, 0.0, 0.5, 3.0, 65.0, 200.0, 254.0, 255.0, 1000.0);
+    cfg.pfa = *rc::gen::element(0.1, 0.05, 0.01, 1e-3, 0.5, 1.0, 2.0, 0.0);
+    cfg.min_neighbours = *rc::gen::element(0, 0, 0, 1, 3, 8);
+    const int style = *rc::gen::inRange(0, 6);
+    Rng rng(seed);
+    const double maxv = d == Depth::k16 ? 65535.0 : 255.0;
+    const std::vector<double> v = random_values(rng, rows, cols, maxv, style);
+    const std::string diff = compare_once(v, rows, cols, d, cfg);
+    RC_LOG() << diff;
+    RC_ASSERT(diff.empty());
+  });
+}
+
+TEST_CASE("Fast CFAR equals the previous implementation on realistic speckle", "[unit]") {
+  const int rows = 600, cols = 512;
+  struct Image {
+    Depth depth;
+    std::vector<double> v;
+  };
+  const Image images[] = {
+      {Depth::k8, sonar_like(rows, cols, 255.0, 1.0, 11)},
+      {Depth::k16, sonar_like(rows, cols, 65535.0, 200.0, 12)},
+      {Depth::kFloat, sonar_like(rows, cols, 255.0, 1.0, 13)},
+  };
+  for (const Image& img : images) {
+    for (CfarMethod m : {CfarMethod::kSoca, CfarMethod::kCa, CfarMethod::kGoca}) {
+      for (CfarWindow w : {CfarWindow::kCross, CfarWindow::kRange}) {
+        for (double gate : {-1.0, 0.0, 65.0}) {
+          CfarConfig cfg;
+          cfg.method = m;
+          cfg.window = w;
+          // Long windows too (N > 128 cells: the 8-bit interior in 32-bit lanes).
+          if (img.depth == Depth::k8 && gate == 65.0) cfg.train_cells = 140;
+          cfg.gate = img.depth == Depth::k16 && gate > 0 ? gate * 200.0 : gate;
+          for (int min_n : {0, 3}) {
+            cfg.min_neighbours = min_n;
+            size_t n = 0;
+            const std::string diff = compare_once(img.v, rows, cols, img.depth, cfg, false, &n);
+            INFO(describe(cfg, rows, cols, img.depth) << " detections " << n);
+            CHECK(diff.empty());
+            CHECK(n > 100);  // a meaningful comparison
+          }
+        }
+      }
+    }
+  }
 }
