@@ -12,10 +12,13 @@
 namespace orthosonar::sim {
 namespace {
 
+// The clean profile (the field profile, the default, is BM_SimFullResPairField).
 void BM_SimFullResPair(benchmark::State& state) {
   const Scene scene = *builtin_scene("harbor", 1);
   SimConfig cfg;
-  const SonarRenderer renderer(scene.mesh, cfg.sonar, Resolution::kFull, 1);
+  SonarModelConfig clean = cfg.sonar;
+  apply_profile(clean, SonarProfile::kClean);
+  const SonarRenderer renderer(scene.mesh, clean, Resolution::kFull, 1);
   const Trajectory traj(scene.route, scene.vehicle_depth_m, cfg.vehicle, Time::from_s(600));
   uint32_t i = 0;
   for (auto _ : state) {
