@@ -12,36 +12,13 @@
 namespace orthosonar::sim {
 namespace {
 
-// The clean profile (the field profile, the default, is BM_SimFullResPairField).
-void BM_SimFullResPair(benchmark::State& state) {
-  const Scene scene = *builtin_scene("harbor", 1);
-  SimConfig cfg;
-  SonarModelConfig clean = cfg.sonar;
-  apply_profile(clean, SonarProfile::kClean);
-  const SonarRenderer renderer(scene.mesh, clean, Resolution::kFull, 1);
-  const Trajectory traj(scene.route, scene.vehicle_depth_m, cfg.vehicle, Time::from_s(600));
-  uint32_t i = 0;
-  for (auto _ : state) {
-    const Time t = Time::from_ms(200 * (i % 3000));
-    const SE3 T_W_V = traj.at(t).T_W_V();
-    auto h = renderer.render(T_W_V * cfg.T_V_h, SonarMount::kHorizontal, t, i);
-    auto v = renderer.render(T_W_V * cfg.T_V_v, SonarMount::kVertical, t, i);
-    benchmark::DoNotOptimize(h.ping.image.data());
-    benchmark::DoNotOptimize(v.ping.image.data());
-    ++i;
-  }
-  state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  state.counters["rays_per_pair"] = static_cast<double>(renderer.rays_per_ping(SonarMount::kHorizontal) + renderer.rays_per_ping(SonarMount::kVertical));
-}
-BENCHMARK(BM_SimFullResPair)->Unit(benchmark::kMillisecond)->MinTime(3.0);
-
-// The same with the field profile (beam pattern, multipath ghosts, Lambertian seabed with
-// texture and relief, absorption, noise before the TVG).
-void BM_SimFullResPairField(benchmark::State& state) {
+// Full-resolution pairs along the harbor route in one profile (seafloor_depth_m only
+// matters to the field profile's optional seabed mirror).
+void sim_full_res_pairs(benchmark::State& state, SonarProfile profile) {
   const Scene scene = *builtin_scene("harbor", 1);
   SimConfig cfg;
   SonarModelConfig c = cfg.sonar;
-  apply_profile(c, SonarProfile::kField);
+  apply_profile(c, profile);
   c.seafloor_depth_m = scene.seafloor_depth_m;
   const SonarRenderer renderer(scene.mesh, c, Resolution::kFull, 1);
   const Trajectory traj(scene.route, scene.vehicle_depth_m, cfg.vehicle, Time::from_s(600));
@@ -58,6 +35,14 @@ void BM_SimFullResPairField(benchmark::State& state) {
   state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["rays_per_pair"] = static_cast<double>(renderer.rays_per_ping(SonarMount::kHorizontal) + renderer.rays_per_ping(SonarMount::kVertical));
 }
+
+// The clean profile.
+void BM_SimFullResPair(benchmark::State& state) { sim_full_res_pairs(state, SonarProfile::kClean); }
+BENCHMARK(BM_SimFullResPair)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+
+// The field profile, the default (beam pattern, multipath ghosts, Lambertian seabed with
+// texture and relief, absorption, noise before the TVG).
+void BM_SimFullResPairField(benchmark::State& state) { sim_full_res_pairs(state, SonarProfile::kField); }
 BENCHMARK(BM_SimFullResPairField)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 
 void BM_SimReducedHarbor60s(benchmark::State& state) {
