@@ -51,15 +51,20 @@ const SonarPing& image_v() {
   return p;
 }
 
-void BM_CfarSocaCross512x600(benchmark::State& state) {
-  const CfarConfig cfg;
+// CFAR on one image per iteration; the detection count as a counter.
+void run_cfar(benchmark::State& state, const CfarConfig& cfg, const SonarPing& image) {
   size_t n = 0;
   for (auto _ : state) {
-    auto d = cfar_detect(image_h(), cfg);
+    auto d = cfar_detect(image, cfg);
     n = d.size();
     benchmark::DoNotOptimize(d.data());
   }
   state.counters["detections"] = static_cast<double>(n);
+}
+
+void BM_CfarSocaCross512x600(benchmark::State& state) {
+  const CfarConfig cfg;
+  run_cfar(state, cfg, image_h());
 }
 BENCHMARK(BM_CfarSocaCross512x600)->Unit(benchmark::kMicrosecond);
 
@@ -67,10 +72,7 @@ BENCHMARK(BM_CfarSocaCross512x600)->Unit(benchmark::kMicrosecond);
 void BM_CfarSocaCross512x600NoGate(benchmark::State& state) {
   CfarConfig cfg;
   cfg.gate = 0.0;
-  for (auto _ : state) {
-    auto d = cfar_detect(image_h(), cfg);
-    benchmark::DoNotOptimize(d.data());
-  }
+  run_cfar(state, cfg, image_h());
 }
 BENCHMARK(BM_CfarSocaCross512x600NoGate)->Unit(benchmark::kMicrosecond);
 
@@ -78,10 +80,7 @@ void BM_CfarSocaRange512x600NoGate(benchmark::State& state) {
   CfarConfig cfg;
   cfg.window = CfarWindow::kRange;
   cfg.gate = 0.0;
-  for (auto _ : state) {
-    auto d = cfar_detect(image_h(), cfg);
-    benchmark::DoNotOptimize(d.data());
-  }
+  run_cfar(state, cfg, image_h());
 }
 BENCHMARK(BM_CfarSocaRange512x600NoGate)->Unit(benchmark::kMicrosecond);
 
@@ -90,10 +89,7 @@ void BM_CfarCaCross512x600NoGate(benchmark::State& state) {
   CfarConfig cfg;
   cfg.method = CfarMethod::kCa;
   cfg.gate = 0.0;
-  for (auto _ : state) {
-    auto d = cfar_detect(image_h(), cfg);
-    benchmark::DoNotOptimize(d.data());
-  }
+  run_cfar(state, cfg, image_h());
 }
 BENCHMARK(BM_CfarCaCross512x600NoGate)->Unit(benchmark::kMicrosecond);
 
@@ -101,10 +97,7 @@ void BM_CfarGocaCross512x600NoGate(benchmark::State& state) {
   CfarConfig cfg;
   cfg.method = CfarMethod::kGoca;
   cfg.gate = 0.0;
-  for (auto _ : state) {
-    auto d = cfar_detect(image_h(), cfg);
-    benchmark::DoNotOptimize(d.data());
-  }
+  run_cfar(state, cfg, image_h());
 }
 BENCHMARK(BM_CfarGocaCross512x600NoGate)->Unit(benchmark::kMicrosecond);
 
@@ -122,13 +115,7 @@ const SonarPing& image_field() {
 
 void BM_CfarSocaCross512x600Field(benchmark::State& state) {
   const CfarConfig cfg;
-  size_t n = 0;
-  for (auto _ : state) {
-    auto d = cfar_detect(image_field(), cfg);
-    n = d.size();
-    benchmark::DoNotOptimize(d.data());
-  }
-  state.counters["detections"] = static_cast<double>(n);
+  run_cfar(state, cfg, image_field());
 }
 BENCHMARK(BM_CfarSocaCross512x600Field)->Unit(benchmark::kMicrosecond);
 
