@@ -77,6 +77,23 @@ void rot90(const float* in, int side, float* out) {
 
 }  // namespace
 
+double RowMedians::operator()(int row) {
+  double& m = median_[static_cast<size_t>(row)];
+  if (m >= 0.0) return m;
+  scratch_.resize(p_.cols);
+  for (int c = 0; c < p_.cols; ++c) scratch_[static_cast<size_t>(c)] = p_.at(row, c);
+  const auto mid = scratch_.begin() + (p_.cols - 1) / 2;
+  std::nth_element(scratch_.begin(), mid, scratch_.end());
+  m = *mid;
+  return m;
+}
+
+double RowMedians::local_floor(int row, int half) {
+  double f = 0.0;
+  for (int r = std::max(0, row - half); r <= std::min(p_.rows - 1, row + half); ++r) f = std::max(f, (*this)(r));
+  return f;
+}
+
 std::vector<Detection> cfar_detect_within(const SonarPing& p, const CfarConfig& cfg, double max_abs_bearing_rad) {
   const auto& b = p.bearings_rad;
   int c0 = p.cols, c1 = -1;
@@ -132,6 +149,7 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
   auto gather = [&](const SonarPing& p, const std::vector<Detection>& dets, double inv) {
     std::vector<Candidate> out;
     const auto& b = p.bearings_rad;
+    RowMedians medians(p);
     for (size_t k = 0; k < dets.size(); ++k) {
       const Detection& d = dets[k];
       if (std::abs(b[static_cast<size_t>(d.col)]) > lim) continue;
@@ -150,6 +168,9 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
         }
         if (!peak) continue;
       }
+      if (config.noise_floor_factor > 0.0 &&
+          d.intensity < config.noise_floor_factor * medians.local_floor(d.row, config.noise_floor_rows))
+        continue;
       const long bin = std::lround(p.range_of_row(d.row) / res_c);
       out.push_back({d.row, d.col, bin, static_cast<float>(std::min(1.0, d.intensity * inv))});
     }

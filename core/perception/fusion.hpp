@@ -37,6 +37,12 @@ struct FusionConfig {
   // no detection of its row within ±peak_window_deg (bearing on h, elevation on v) is
   // brighter, so a target blurred across the beam's main lobe fuses at its peak beam. 0 = off.
   double peak_window_deg = 1.0;
+  // Addition (docs/PERCEPTION.md "Field images"): a candidate in the overlap is kept only if
+  // its intensity is at least noise_floor_factor times its image's local noise floor, the
+  // largest row median within ±noise_floor_rows rows. It removes the TVG-lifted far-range
+  // speckle clusters that pass CFAR and the neighbour filter. 0 = off.
+  double noise_floor_factor = 3.0;
+  int noise_floor_rows = 5;
   SE3 T_V_h = default_T_V_h();
   SE3 T_V_v = default_T_V_v();
   // SPEC CFAR with the isolated-speckle filter on (3 of 8 neighbours) against the field
@@ -70,6 +76,21 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
 // CFAR detections of the beams with |bearing| <= max_abs_bearing_rad, computed on that strip
 // of the image plus the margin its windows need: the same list as cfar_detect on the whole
 // image restricted to those beams.
+// Median intensity of each row (the lower median; raw image units), computed on demand and
+// kept: the local noise floor of the fusion gate. Exposed for tests.
+class RowMedians {
+ public:
+  explicit RowMedians(const SonarPing& p) : p_(p), median_(static_cast<size_t>(p.rows), -1.0) {}
+  double operator()(int row);
+  // max of the row medians over [row - half, row + half], clipped to the image.
+  double local_floor(int row, int half);
+
+ private:
+  const SonarPing& p_;
+  std::vector<double> median_;
+  std::vector<uint16_t> scratch_;
+};
+
 std::vector<Detection> cfar_detect_within(const SonarPing& p, const CfarConfig& cfg, double max_abs_bearing_rad);
 
 // Horizontal detections as planar points in V (φ = 0; SLAM, paper §IV-A): x, y of

@@ -190,3 +190,46 @@ TEST_CASE("peak_window_deg keeps one candidate per main lobe: a blurred target f
   REQUIRE(peak.points.size() == 1);
   CHECK(peak.points[0].bearing_rad == Approx(h.bearings_rad[static_cast<size_t>(mid)]));
 }
+
+TEST_CASE("noise_floor_factor drops candidates under the local noise floor (largest row median within ±rows)",
+          "[unit]") {
+  // Both images: background 5 in rows < 150 and 60 from row 150 on (a TVG-lifted far field).
+  SonarPing h, v;
+  for (SonarPing* p : {&h, &v}) {
+    p->rows = 200;
+    p->cols = 256;
+    p->range_resolution_m = 0.05;
+    for (int c = 0; c < p->cols; ++c) p->bearings_rad.push_back((-32.0 + 64.0 * c / 255.0) * std::numbers::pi / 180.0);
+    p->image.assign(static_cast<size_t>(p->rows) * p->cols, 5);
+    for (size_t i = 150 * static_cast<size_t>(p->cols); i < p->image.size(); ++i) p->image[i] = 60;
+  }
+  h.mount = SonarMount::kHorizontal;
+  v.mount = SonarMount::kVertical;
+  RowMedians med(h);
+  CHECK(med(10) == 5.0);
+  CHECK(med(150) == 60.0);
+  CHECK(med.local_floor(144, 5) == 5.0);
+  CHECK(med.local_floor(145, 5) == 60.0);   // row 150 is within ±5
+  CHECK(med.local_floor(199, 5) == 60.0);   // clipped at the last row
+  // Targets (row, intensity): near field 170 (floor 5: kept); 170 at row 147 (floor 60 from
+  // row 150 within ±5: dropped); 170 in the far field (dropped); 250 in the far field (kept).
+  const int col = 128;
+  const std::pair<int, uint8_t> targets[] = {{100, 170}, {147, 170}, {170, 170}, {185, 250}};
+  for (const auto& [row, value] : targets) {
+    h.image[static_cast<size_t>(row) * h.cols + col] = value;
+    v.image[static_cast<size_t>(row) * v.cols + col] = value;
+  }
+  FusionConfig cfg;
+  cfg.min_confidence = 0.0;
+  cfg.cfar_h.min_neighbours = cfg.cfar_v.min_neighbours = 0;  // one-cell targets
+  cfg.noise_floor_factor = 0.0;
+  const FusionResult all = fuse_pair(h, v, cfg);
+  REQUIRE(all.points.size() == 4);
+  cfg.noise_floor_factor = 3.0;
+  const FusionResult gated = fuse_pair(h, v, cfg);
+  REQUIRE(gated.points.size() == 2);
+  CHECK(gated.points[0].range_m == Approx(h.range_of_row(100)));
+  CHECK(gated.points[1].range_m == Approx(h.range_of_row(185)));
+  cfg.noise_floor_rows = 0;  // only the row's own median: row 147's floor is 5
+  CHECK(fuse_pair(h, v, cfg).points.size() == 3);
+}
