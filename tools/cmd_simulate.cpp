@@ -40,6 +40,7 @@ struct SimulateArgs {
   bool compare_profiles = false;  // with --snapshot-pose: clean and field side by side
   std::string real_ping;          // with --compare-profiles: a raw Oculus ping drawn beside
   bool quiet = false;
+  int zstd_level = 1;  // fixture chunk compression (1: the renderer's pace; 19: smallest files)
 };
 
 int fail(const std::string& msg) {
@@ -133,7 +134,9 @@ int run_simulate(const SimulateArgs& a) {
   // that is still being written (or the half of one an interrupted run left).
   const std::string partial = a.out + ".partial";
   if (!a.out.empty()) {
-    auto w = replay::FixtureWriter::open(partial, simulator.metadata());
+    replay::WriterOptions wo;
+    wo.zstd_level = a.zstd_level;
+    auto w = replay::FixtureWriter::open(partial, simulator.metadata(), wo);
     if (!w) return fail(w.error().message);
     writer = std::move(*w);
     // The scene goes into the fixture (mesh, route, classes): replay needs no scene file.
@@ -208,6 +211,9 @@ const bool registered = register_command(
        sub.add_option("--export-mesh", a->export_mesh, "Write the ground-truth scene mesh (PLY)");
        sub.add_option("--config", a->config_yaml, "Simulator config YAML (fields of SimConfig)");
        sub.add_option("--profile", a->profile, "Image formation: field (default: side lobes, multipath, seabed, absorption, TVG) or clean");
+       sub.add_option("--zstd-level", a->zstd_level, "zstd level of the fixture's chunks (1 fastest, 19 smallest)")
+           ->check(CLI::Range(1, 19))
+           ->capture_default_str();
        sub.add_option("--threads", a->threads, "Render threads (output identical for any count)")->capture_default_str();
        sub.add_option("--snapshot-dir", a->snapshot_dir, "Write fan PNGs of the pings at --snapshot-at times here");
        sub.add_option("--snapshot-at", a->snapshot_at_s, "Mission times (s) for snapshots");

@@ -1,5 +1,7 @@
-// The only translation unit of orthosonar_inference that includes libtorch.
-#include "core/inference/classifier.hpp"
+// liborthosonar_torch.so: the classifier's network and torch's process settings, the only
+// code of orthosonar that includes or links libtorch. Loaded on demand by classifier.cpp
+// through torch_backend.hpp (docs/ARCHITECTURE.md, "libtorch, loaded on demand").
+#include "core/inference/torch_backend.hpp"
 
 #include <ATen/Version.h>
 #include <dlfcn.h>
@@ -34,10 +36,6 @@ void fill_mask(float* out, int64_t rows, int64_t cols, double p, Rng& rng) {
   for (int64_t i = 0; i < rows * cols; ++i) out[i] = rng.uniform() < p ? 0.0f : keep;
 }
 
-}  // namespace
-
-namespace {
-
 // oneDNN's C API, reached through the dynamic linker (libtorch links libdnnl; its headers are
 // not part of libtorch's). Values of dnnl_cpu_isa_t, stable since oneDNN 1.x.
 constexpr int kDnnlIsaSse41 = 0x1;
@@ -58,21 +56,18 @@ std::string dnnl_isa_name(int isa) {
   }
 }
 
-}  // namespace
 
-void InferenceRuntime::pin_cpu_kernels() {
-  // ATen computes its capability once, at the first dispatch, from this variable; an
-  // existing value is overridden (the pin is the pin).
-  ::setenv("ATEN_CPU_CAPABILITY", "default", 1);
+void pin_onednn() {
   // Returns an error once oneDNN has dispatched (the ISA is then fixed); status() reports
-  // what is in effect either way.
+  // what is in effect either way. (ATEN_CPU_CAPABILITY is set by the loader, before this
+  // module is loaded.)
   if (auto set_max = reinterpret_cast<DnnlSetMaxIsa>(::dlsym(RTLD_DEFAULT, "dnnl_set_max_cpu_isa"))) {
     set_max(kDnnlIsaSse41);
   }
 }
 
-InferenceRuntime::Status InferenceRuntime::status() {
-  Status st;
+InferenceRuntime::Status status() {
+  InferenceRuntime::Status st;
   // at::show_config() reports the capability ATen dispatches with (computing it now if no
   // operator ran yet, from ATEN_CPU_CAPABILITY), as "CPU capability usage: AVX2" (or "NO
   // AVX" for DEFAULT).
@@ -96,7 +91,7 @@ InferenceRuntime::Status InferenceRuntime::status() {
   return st;
 }
 
-void InferenceRuntime::set_threads(int threads) {
+void set_threads(int threads) {
   const int n = std::max(1, threads);
   torch::set_num_threads(n);
   if (torch::get_num_interop_threads() != n) {
@@ -107,13 +102,9 @@ void InferenceRuntime::set_threads(int threads) {
   }
 }
 
-void InferenceRuntime::configure(int threads, uint64_t seed) {
-  pin_cpu_kernels();
-  set_threads(threads);
-  torch::manual_seed(seed);
-}
+void manual_seed(uint64_t seed) { torch::manual_seed(seed); }
 
-struct Classifier::Impl {
+struct Net {
   ClassifierConfig cfg;
   std::vector<SemanticClass> classes;
   torch::Tensor w1, b1, w2, b2, w3, b3, w4, b4;
@@ -121,6 +112,7 @@ struct Classifier::Impl {
   int64_t side_after_pools() const { return cfg.input_px / 4; }
   int64_t features() const { return cfg.conv2_channels * side_after_pools() * side_after_pools(); }
   std::vector<torch::Tensor*> params() { return {&w1, &b1, &w2, &b2, &w3, &b3, &w4, &b4}; }
+  std::vector<const torch::Tensor*> params() const { return {&w1, &b1, &w2, &b2, &w3, &b3, &w4, &b4}; }
 
   void init(uint64_t seed) {
     Rng rng(derive_seed(seed, kInitStream));
@@ -189,79 +181,45 @@ struct Classifier::Impl {
   }
 };
 
-Classifier::Classifier(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Classifier::Classifier(const ClassifierConfig& config, std::vector<SemanticClass> classes, uint64_t init_seed)
-    : impl_(std::make_unique<Impl>()) {
-  impl_->cfg = config;
-  impl_->classes = std::move(classes);
-  impl_->init(init_seed);
-}
-Classifier::~Classifier() = default;
-Classifier::Classifier(Classifier&&) noexcept = default;
-Classifier& Classifier::operator=(Classifier&&) noexcept = default;
+class TorchModel final : public torch_backend::Model {
+ public:
+  explicit TorchModel(Net net) : net_(std::move(net)) {}
+  const ClassifierConfig& config() const override { return net_.cfg; }
+  const std::vector<SemanticClass>& classes() const override { return net_.classes; }
+  std::string serialize() const override;
+  std::vector<Prediction> classify(const std::vector<cv::Mat>& crops, uint64_t seed) const override;
+  std::vector<std::vector<float>> mc_probabilities(const cv::Mat& crop, uint64_t seed) const override;
+  std::vector<std::vector<float>> probabilities(const std::vector<cv::Mat>& crops) const override;
+  double train(const std::vector<LabelledCrop>& data, const TrainConfig& config, uint64_t seed) override;
 
-const ClassifierConfig& Classifier::config() const { return impl_->cfg; }
-const std::vector<SemanticClass>& Classifier::classes() const { return impl_->classes; }
+ private:
+  Net net_;
+};
 
-std::string Classifier::serialize() const {
+std::string TorchModel::serialize() const {
   torch::serialize::OutputArchive ar;
-  const ClassifierConfig& c = impl_->cfg;
+  const ClassifierConfig& c = net_.cfg;
   ar.write("arch", torch::tensor(std::vector<int64_t>{c.input_px, c.conv1_channels, c.conv2_channels, c.hidden}));
   ar.write("dropout", torch::tensor(std::vector<double>{c.dropout}));
   std::vector<int64_t> cls;
-  for (SemanticClass s : impl_->classes) cls.push_back(static_cast<int64_t>(s));
+  for (SemanticClass s : net_.classes) cls.push_back(static_cast<int64_t>(s));
   ar.write("classes", torch::tensor(cls));
   const char* names[] = {"w1", "b1", "w2", "b2", "w3", "b3", "w4", "b4"};
-  const auto ps = impl_->params();
+  const auto ps = net_.params();
   for (size_t i = 0; i < ps.size(); ++i) ar.write(names[i], ps[i]->detach());
   std::ostringstream os;
   ar.save_to(os);
   return os.str();
 }
 
-Result<Classifier> Classifier::deserialize(const std::string& bytes, const ClassifierConfig& runtime) {
-  try {
-    std::istringstream is(bytes);
-    torch::serialize::InputArchive ar;
-    ar.load_from(is);
-    auto impl = std::make_unique<Impl>();
-    impl->cfg = runtime;
-    torch::Tensor arch, dropout, cls;
-    ar.read("arch", arch);
-    ar.read("dropout", dropout);
-    ar.read("classes", cls);
-    if (arch.numel() != 4 || dropout.numel() != 1 || cls.numel() < 1) return Error{"model: bad header tensors"};
-    impl->cfg.input_px = static_cast<int>(arch[0].item<int64_t>());
-    impl->cfg.conv1_channels = static_cast<int>(arch[1].item<int64_t>());
-    impl->cfg.conv2_channels = static_cast<int>(arch[2].item<int64_t>());
-    impl->cfg.hidden = static_cast<int>(arch[3].item<int64_t>());
-    impl->cfg.dropout = dropout[0].item<double>();
-    for (int64_t i = 0; i < cls.numel(); ++i) {
-      const int64_t v = cls[i].item<int64_t>();
-      if (v < 0 || v >= kSemanticClassCount) return Error{"model: unknown semantic class " + std::to_string(v)};
-      impl->classes.push_back(static_cast<SemanticClass>(v));
-    }
-    const char* names[] = {"w1", "b1", "w2", "b2", "w3", "b3", "w4", "b4"};
-    const auto ps = impl->params();
-    for (size_t i = 0; i < ps.size(); ++i) ar.read(names[i], *ps[i]);
-    // Shape check: one deterministic forward of a blank crop.
-    const int64_t px = impl->cfg.input_px;
-    torch::NoGradGuard no_grad;
-    const auto out = impl->head(impl->trunk(torch::zeros({1, 1, px, px})), {}, {});
-    if (out.size(1) != static_cast<int64_t>(impl->classes.size())) return Error{"model: class count mismatch"};
-    return Classifier(std::move(impl));
-  } catch (const c10::Error& e) {
-    return Error{std::string("model: cannot read torch archive: ") + e.what_without_backtrace()};
-  }
-}
 
 
-std::vector<Prediction> Classifier::classify(const std::vector<cv::Mat>& crops, uint64_t seed) const {
+std::vector<Prediction> TorchModel::classify(const std::vector<cv::Mat>& crops, uint64_t seed) const {
   std::vector<Prediction> out(crops.size());
   if (crops.empty()) return out;
-  const int64_t mc = std::max(1, impl_->cfg.mc_samples);
-  const int64_t n_cls = static_cast<int64_t>(impl_->classes.size());
-  const torch::Tensor mean = impl_->mc_forward(crops, seed).reshape({static_cast<int64_t>(crops.size()), mc, n_cls}).mean(1).contiguous();
+  const int64_t mc = std::max(1, net_.cfg.mc_samples);
+  const int64_t n_cls = static_cast<int64_t>(net_.classes.size());
+  const torch::Tensor mean = net_.mc_forward(crops, seed).reshape({static_cast<int64_t>(crops.size()), mc, n_cls}).mean(1).contiguous();
   const float* m = mean.data_ptr<float>();
   for (size_t i = 0; i < crops.size(); ++i) {
     Prediction& p = out[i];
@@ -269,14 +227,14 @@ std::vector<Prediction> Classifier::classify(const std::vector<cv::Mat>& crops, 
     const auto best = std::max_element(p.mean_probabilities.begin(), p.mean_probabilities.end());
     p.class_index = static_cast<int>(best - p.mean_probabilities.begin());
     p.mean_probability = *best;
-    p.known = p.mean_probability > impl_->cfg.accept_probability;
-    if (p.known) p.semantic = impl_->classes[static_cast<size_t>(p.class_index)];
+    p.known = p.mean_probability > net_.cfg.accept_probability;
+    if (p.known) p.semantic = net_.classes[static_cast<size_t>(p.class_index)];
   }
   return out;
 }
 
-std::vector<std::vector<float>> Classifier::mc_probabilities(const cv::Mat& crop, uint64_t seed) const {
-  const torch::Tensor p = impl_->mc_forward({crop}, seed).contiguous();
+std::vector<std::vector<float>> TorchModel::mc_probabilities(const cv::Mat& crop, uint64_t seed) const {
+  const torch::Tensor p = net_.mc_forward({crop}, seed).contiguous();
   std::vector<std::vector<float>> out(static_cast<size_t>(p.size(0)));
   const float* d = p.data_ptr<float>();
   for (size_t i = 0; i < out.size(); ++i) {
@@ -285,11 +243,11 @@ std::vector<std::vector<float>> Classifier::mc_probabilities(const cv::Mat& crop
   return out;
 }
 
-std::vector<std::vector<float>> Classifier::probabilities(const std::vector<cv::Mat>& crops) const {
+std::vector<std::vector<float>> TorchModel::probabilities(const std::vector<cv::Mat>& crops) const {
   std::vector<std::vector<float>> out(crops.size());
   if (crops.empty()) return out;
   torch::NoGradGuard no_grad;
-  const torch::Tensor p = torch::softmax(impl_->head(impl_->trunk(impl_->batch(crops)), {}, {}), 1).contiguous();
+  const torch::Tensor p = torch::softmax(net_.head(net_.trunk(net_.batch(crops)), {}, {}), 1).contiguous();
   const float* d = p.data_ptr<float>();
   for (size_t i = 0; i < out.size(); ++i) {
     out[i].assign(d + static_cast<int64_t>(i) * p.size(1), d + (static_cast<int64_t>(i) + 1) * p.size(1));
@@ -297,9 +255,9 @@ std::vector<std::vector<float>> Classifier::probabilities(const std::vector<cv::
   return out;
 }
 
-double Classifier::train(const std::vector<LabelledCrop>& data, const TrainConfig& config, uint64_t seed) {
+double TorchModel::train(const std::vector<LabelledCrop>& data, const TrainConfig& config, uint64_t seed) {
   if (data.empty()) return 0.0;
-  Impl& m = *impl_;
+  Net& m = net_;
   std::vector<torch::Tensor> params;
   for (torch::Tensor* t : m.params()) {
     *t = t->detach().clone().set_requires_grad(true);
@@ -344,31 +302,64 @@ double Classifier::train(const std::vector<LabelledCrop>& data, const TrainConfi
   return last_loss;
 }
 
-std::vector<PerClassAccuracy> Classifier::evaluate(const std::vector<LabelledCrop>& data, uint64_t seed) const {
-  std::vector<PerClassAccuracy> acc(impl_->classes.size());
-  for (size_t c = 0; c < acc.size(); ++c) acc[c].semantic = impl_->classes[c];
-  constexpr size_t kChunk = 64;
-  for (size_t start = 0; start < data.size(); start += kChunk) {
-    const size_t end = std::min(data.size(), start + kChunk);
-    std::vector<cv::Mat> crops;
-    for (size_t k = start; k < end; ++k) crops.push_back(data[k].crop);
-    const auto probs = probabilities(crops);
-    const auto preds = classify(crops, derive_seed(seed, start));
-    for (size_t k = start; k < end; ++k) {
-      const size_t label = static_cast<size_t>(data[k].label);
-      if (label >= acc.size()) continue;
-      PerClassAccuracy& a = acc[label];
-      ++a.samples;
-      const auto& p = probs[k - start];
-      const size_t argmax = static_cast<size_t>(std::max_element(p.begin(), p.end()) - p.begin());
-      if (argmax == label) ++a.correct;
-      if (preds[k - start].known) {
-        ++a.accepted;
-        if (static_cast<size_t>(preds[k - start].class_index) == label) ++a.accepted_correct;
-      }
-    }
-  }
-  return acc;
+using torch_backend::Model;
+
+
+Model* create(const ClassifierConfig& config, const std::vector<SemanticClass>& classes, uint64_t init_seed) {
+  Net net;
+  net.cfg = config;
+  net.classes = classes;
+  net.init(init_seed);
+  return new TorchModel(std::move(net));
 }
 
+Model* deserialize(const std::string& bytes, const ClassifierConfig& runtime, std::string* error) {
+  const auto fail = [error](std::string what) -> Model* {
+    *error = std::move(what);
+    return nullptr;
+  };
+  try {
+    std::istringstream is(bytes);
+    torch::serialize::InputArchive ar;
+    ar.load_from(is);
+    Net net;
+    net.cfg = runtime;
+    torch::Tensor arch, dropout, cls;
+    ar.read("arch", arch);
+    ar.read("dropout", dropout);
+    ar.read("classes", cls);
+    if (arch.numel() != 4 || dropout.numel() != 1 || cls.numel() < 1) return fail("model: bad header tensors");
+    net.cfg.input_px = static_cast<int>(arch[0].item<int64_t>());
+    net.cfg.conv1_channels = static_cast<int>(arch[1].item<int64_t>());
+    net.cfg.conv2_channels = static_cast<int>(arch[2].item<int64_t>());
+    net.cfg.hidden = static_cast<int>(arch[3].item<int64_t>());
+    net.cfg.dropout = dropout[0].item<double>();
+    for (int64_t i = 0; i < cls.numel(); ++i) {
+      const int64_t v = cls[i].item<int64_t>();
+      if (v < 0 || v >= kSemanticClassCount) return fail("model: unknown semantic class " + std::to_string(v));
+      net.classes.push_back(static_cast<SemanticClass>(v));
+    }
+    const char* names[] = {"w1", "b1", "w2", "b2", "w3", "b3", "w4", "b4"};
+    const auto ps = net.params();
+    for (size_t i = 0; i < ps.size(); ++i) ar.read(names[i], *ps[i]);
+    // Shape check: one deterministic forward of a blank crop.
+    const int64_t px = net.cfg.input_px;
+    torch::NoGradGuard no_grad;
+    const auto out = net.head(net.trunk(torch::zeros({1, 1, px, px})), {}, {});
+    if (out.size(1) != static_cast<int64_t>(net.classes.size())) return fail("model: class count mismatch");
+    return new TorchModel(std::move(net));
+  } catch (const c10::Error& e) {
+    return fail(std::string("model: cannot read torch archive: ") + e.what_without_backtrace());
+  }
+}
+
+const torch_backend::Api kApi{torch_backend::kAbiVersion, sizeof(ClassifierConfig), &pin_onednn, &status,
+                              &set_threads,  &manual_seed, &create, &deserialize};
+
+}  // namespace
 }  // namespace orthosonar::inference
+
+extern "C" __attribute__((visibility("default"))) const orthosonar::inference::torch_backend::Api* orthosonar_torch_api() {
+  return &orthosonar::inference::kApi;
+}
+
