@@ -15,7 +15,9 @@
 namespace orthosonar::inference::torch_backend {
 
 // One network; created and destroyed inside the module (the module is never unloaded).
-class Model {
+// Default visibility: the module is built with hidden symbols, but this type's typeinfo and
+// vtable must be the same on both sides (UBSan's vptr check, dynamic_cast).
+class __attribute__((visibility("default"))) Model {
  public:
   virtual ~Model() = default;
   virtual const ClassifierConfig& config() const = 0;
