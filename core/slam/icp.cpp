@@ -69,6 +69,75 @@ size_t Grid2d::count_within(const Eigen::Vector2d& q, double radius) const {
   return n;
 }
 
+std::vector<long> Grid2d::within(const Eigen::Vector2d& q, double radius) const {
+  const auto r = static_cast<long long>(std::ceil(radius / cell_m_));
+  const auto qx = static_cast<long long>(std::floor(q.x() / cell_m_));
+  const auto qy = static_cast<long long>(std::floor(q.y() / cell_m_));
+  const double r2 = radius * radius;
+  std::vector<long> out;
+  for (long long cx = qx - r; cx <= qx + r; ++cx) {
+    for (long long cy = qy - r; cy <= qy + r; ++cy) {
+      for_cell(cx, cy, [&](long i) {
+        if (((*points_)[static_cast<size_t>(i)] - q).squaredNorm() <= r2) out.push_back(i);
+      });
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+FitInformation icp_fit_information(const std::vector<Eigen::Vector2d>& source,
+                                   const std::vector<Eigen::Vector2d>& target, const SE2& T,
+                                   const FitInformationConfig& config) {
+  FitInformation out;
+  if (source.empty() || target.empty()) return out;
+  const Grid2d grid(target, std::max(config.max_correspondence_m, config.normal_radius_m));
+  const double c = std::cos(T.theta), s = std::sin(T.theta);
+  for (const Eigen::Vector2d& p : source) {
+    const Eigen::Vector2d q = T * p;
+    const long j = grid.nearest(q, config.max_correspondence_m);
+    if (j < 0) continue;
+    ++out.correspondences;
+    // d(T p)/dθ = R(θ) perp(p), perp(p) = (-p_y, p_x).
+    const Eigen::Vector2d dtheta(-s * p.x() - c * p.y(), c * p.x() - s * p.y());
+    Eigen::Matrix<double, 2, 3> J;
+    J << 1.0, 0.0, dtheta.x(), 0.0, 1.0, dtheta.y();
+    const auto nb = grid.within(target[static_cast<size_t>(j)], config.normal_radius_m);
+    bool line = false;
+    Eigen::Vector2d normal = Eigen::Vector2d::Zero();
+    if (nb.size() >= 3) {
+      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+      for (long k : nb) mean += target[static_cast<size_t>(k)];
+      mean /= static_cast<double>(nb.size());
+      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+      for (long k : nb) {
+        const Eigen::Vector2d d = target[static_cast<size_t>(k)] - mean;
+        cov += d * d.transpose();
+      }
+      // Closed-form eigen-decomposition of the symmetric 2x2 (no iterative solver).
+      const double a = cov(0, 0), b = cov(0, 1), d = cov(1, 1);
+      const double half_tr = 0.5 * (a + d), disc = std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+      const double small = half_tr - disc, large = half_tr + disc;
+      if (large > 0.0 && small <= config.line_ratio * large) {
+        line = true;
+        // Eigenvector of the smaller eigenvalue: (b, small - a), or (small - d, b).
+        Eigen::Vector2d v(b, small - a);
+        if (v.squaredNorm() < 1e-24) v = Eigen::Vector2d(small - d, b);
+        if (v.squaredNorm() < 1e-24) v = Eigen::Vector2d(a <= d ? 1.0 : 0.0, a <= d ? 0.0 : 1.0);
+        normal = v.normalized();
+      }
+    }
+    if (line) {
+      const Eigen::RowVector3d row = normal.transpose() * J;
+      out.hessian += row.transpose() * row;
+      ++out.line_rows;
+    } else {
+      out.hessian += J.transpose() * J;
+    }
+  }
+  return out;
+}
+
 namespace {
 
 constexpr double kRotationScaleM = 10.0;   // metres per radian when comparing steps

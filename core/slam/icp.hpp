@@ -34,6 +34,28 @@ IcpResult icp_2d(const std::vector<Eigen::Vector2d>& source,
                  const std::vector<Eigen::Vector2d>& target, const SE2& initial,
                  const IcpConfig& config);
 
+// What a scan match observes (Censi 2007; Zhang, Kaess & Singh 2016, "On degeneracy of
+// optimization-based state estimation problems"): the Gauss-Newton Hessian H = Σ JᵀJ of the
+// fit at its solution, in (x, y, θ) of T_target_source. Each kept correspondence contributes
+// point-to-line (one row, along the target's local normal) where the target is locally a
+// line (PCA of its points within normal_radius_m: smaller/larger eigenvalue below
+// line_ratio), else point-to-point (two rows: an isolated piling constrains both
+// directions). A straight wall leaves translation along it unobserved: H has a near-zero
+// eigenvalue there, which the SLAM factor then does not constrain (keyframe_slam.cpp).
+struct FitInformationConfig {
+  double max_correspondence_m = 1.0;  // correspondences used (the converged fit's inliers)
+  double normal_radius_m = 1.0;       // target neighbourhood of a normal (2 voxels of 0.5 m)
+  double line_ratio = 0.1;            // PCA eigenvalue ratio below which the neighbourhood is a line
+};
+struct FitInformation {
+  Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
+  size_t correspondences = 0;
+  size_t line_rows = 0;   // correspondences on a locally straight target
+};
+FitInformation icp_fit_information(const std::vector<Eigen::Vector2d>& source,
+                                   const std::vector<Eigen::Vector2d>& target, const SE2& T_target_source,
+                                   const FitInformationConfig& config = {});
+
 // Nearest-neighbour index over 2D points within a fixed radius (grid of radius-sized cells,
 // stored sorted; no hashing). Ties between equidistant points go to the lower index.
 class Grid2d {
@@ -43,6 +65,8 @@ class Grid2d {
   long nearest(const Eigen::Vector2d& q, double max_dist, double* dist2 = nullptr) const;
   // Number of points within radius of q (q itself counts if it is one of the points).
   size_t count_within(const Eigen::Vector2d& q, double radius) const;
+  // Indices of the points within radius of q, ascending.
+  std::vector<long> within(const Eigen::Vector2d& q, double radius) const;
 
  private:
   struct Entry {

@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/random.hpp"
 #include "core/slam/planar_cloud.hpp"
 #include "core/slam/synthetic.hpp"
@@ -70,4 +72,46 @@ TEST_CASE("Radius outlier removal drops isolated points", "[unit]") {
   const auto out = remove_radius_outliers(pts, 1.0, 5);
   CHECK(out.size() == 6);
   CHECK(remove_radius_outliers(pts, 1.0, 6).empty());
+}
+
+namespace {
+
+// Points every 0.5 m along the segment a -> b.
+void add_segment(std::vector<Eigen::Vector2d>& out, Eigen::Vector2d a, Eigen::Vector2d b) {
+  const int n = static_cast<int>(std::round((b - a).norm() / 0.5));
+  for (int k = 0; k <= n; ++k) out.push_back(a + (b - a) * (static_cast<double>(k) / n));
+}
+
+}  // namespace
+
+TEST_CASE("Fit information: one straight wall leaves translation along it unobserved", "[unit]") {
+  std::vector<Eigen::Vector2d> wall;
+  add_segment(wall, {-20.0, 8.0}, {20.0, 8.0});
+  const FitInformation fit = icp_fit_information(wall, wall, SE2::identity());
+  CHECK(fit.correspondences == wall.size());
+  CHECK(fit.line_rows == wall.size());  // every neighbourhood is a line
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(fit.hessian);
+  // The smallest eigenvalue is (numerically) zero, its direction pure x translation.
+  CHECK(es.eigenvalues()(0) < 1e-9 * es.eigenvalues()(2));
+  CHECK(std::abs(es.eigenvectors().col(0).x()) == Approx(1.0).margin(1e-6));
+  // y and rotation are observed.
+  CHECK(fit.hessian(1, 1) == Approx(static_cast<double>(wall.size())));
+  CHECK(fit.hessian(2, 2) > 100.0);
+}
+
+TEST_CASE("Fit information: a corner or a row of isolated pilings observes every direction", "[unit]") {
+  std::vector<Eigen::Vector2d> corner;
+  add_segment(corner, {-20.0, 8.0}, {20.0, 8.0});
+  add_segment(corner, {20.0, 8.0}, {20.0, -12.0});
+  const FitInformation c = icp_fit_information(corner, corner, SE2{0.3, -0.2, 0.05});
+  Eigen::Matrix3d Hc = c.hessian;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> ec(Eigen::Matrix2d(Hc.topLeftCorner<2, 2>()));
+  CHECK(ec.eigenvalues()(0) > 0.3 * ec.eigenvalues()(1));  // 41 vs 81 rows per direction
+  // Pilings 3 m apart along one line: isolated points, each constrains x and y.
+  std::vector<Eigen::Vector2d> piles;
+  for (int k = -5; k <= 5; ++k) piles.emplace_back(3.0 * k, 10.0);
+  const FitInformation p = icp_fit_information(piles, piles, SE2::identity());
+  CHECK(p.line_rows == 0);
+  CHECK(p.hessian(0, 0) == Approx(11.0));
+  CHECK(p.hessian(1, 1) == Approx(11.0));
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/Eigenvalues>
+
 namespace orthosonar::slam {
 namespace {
 
@@ -14,6 +16,40 @@ Eigen::Matrix3d covariance(const Eigen::Vector3d& sigma) {
 }
 
 }  // namespace
+
+Eigen::Matrix3d Factor::information() const {
+  const Eigen::Matrix3d D = sigma.cwiseInverse().asDiagonal();
+  return D * mix.transpose() * mix * D;
+}
+
+Eigen::Matrix3d Factor::covariance() const {
+  if (mix.isIdentity(0.0)) return slam::covariance(sigma);
+  const Eigen::Matrix3d S = sigma.asDiagonal();
+  const Eigen::Matrix3d W = mix.transpose() * mix + 1e-6 * Eigen::Matrix3d::Identity();
+  return S * W.inverse() * S;
+}
+
+void KeyframeSlam::shape(Factor& f, const std::vector<Eigen::Vector2d>& source,
+                         const std::vector<Eigen::Vector2d>& target) const {
+  if (config_.degeneracy_ratio <= 0.0) return;
+  const FitInformation fit = icp_fit_information(source, target, f.T_from_to, config_.fit_information);
+  // In sigma-whitened coordinates u = e / sigma the nominal information is the identity.
+  const Eigen::Matrix3d S = f.sigma.asDiagonal();
+  const Eigen::Matrix3d Hu = S * fit.hessian * S;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Hu);
+  const Eigen::Vector3d lambda = es.eigenvalues();  // ascending
+  if (!(lambda(2) > 0.0)) return;
+  Eigen::Vector3d w;
+  int weakened = 0;
+  for (int k = 0; k < 3; ++k) {
+    w(k) = std::clamp(lambda(k) / (config_.degeneracy_ratio * lambda(2)), 0.0, 1.0);
+    if (w(k) < 1.0) ++weakened;
+  }
+  if (weakened == 0) return;  // fully observed: the diagonal sigmas as they are
+  f.mix = w.cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
+  f.weakened = weakened;
+  f.reason += " (" + std::to_string(weakened) + " weak direction" + (weakened > 1 ? "s)" : ")");
+}
 
 const char* factor_kind_name(FactorKind k) {
   switch (k) {
@@ -114,24 +150,27 @@ void KeyframeSlam::sequential_match(int id) {
     f.reason = "dead reckoning: too few points for icp";
   } else {
     const IcpResult icp = icp_2d(source, target, T_dr, config_.icp);
+    Factor m{FactorKind::kSequentialIcp, prev, id, icp.T_target_source, config_.sigma_icp, false, ""};
+    if (icp.converged) shape(m, source, target);
     const SE2 diff = T_dr.inverse() * icp.T_target_source;
     bool close = std::hypot(diff.x, diff.y) <= config_.ssm_max_translation_m &&
                  std::abs(diff.theta) <= config_.ssm_max_rotation_deg * kDegToRad;
     if (close && config_.ssm_max_mahalanobis > 0.0) {
       // ICP and DR measure the same motion: a disagreement beyond their joint noise is a
-      // scan-match failure (a slide along a wall, a viewpoint-dependent outline).
-      const Eigen::Vector3d var = config_.sigma_odometry.cwiseAbs2() + config_.sigma_icp.cwiseAbs2();
-      const double m2 = diff.x * diff.x / var.x() + diff.y * diff.y / var.y() + diff.theta * diff.theta / var.z();
-      close = m2 <= config_.ssm_max_mahalanobis;
+      // scan-match failure (a slide along a wall, a viewpoint-dependent outline). Directions
+      // the fit does not observe carry a large ICP variance, so they are not judged.
+      const Eigen::Matrix3d joint = covariance(config_.sigma_odometry) + m.covariance();
+      const Eigen::Vector3d d(diff.x, diff.y, diff.theta);
+      close = d.dot(joint.ldlt().solve(d)) <= config_.ssm_max_mahalanobis;
     }
     if (icp.converged && close) {
-      f = {FactorKind::kSequentialIcp, prev, id, icp.T_target_source, config_.sigma_icp, true,
-           "icp converged"};
+      m.accepted = true;
+      m.reason = "icp converged" + m.reason;
+      f = std::move(m);
     } else {
       // Keep the failed match on record, then fall back to DR so the graph never breaks.
-      factors_.push_back({FactorKind::kSequentialIcp, prev, id, icp.T_target_source,
-                          config_.sigma_icp, false,
-                          icp.converged ? "icp disagrees with dead reckoning" : "icp not converged"});
+      m.reason = (icp.converged ? "icp disagrees with dead reckoning" : "icp not converged") + m.reason;
+      factors_.push_back(std::move(m));
       f.reason = "dead reckoning: icp rejected";
     }
   }
@@ -193,6 +232,7 @@ void KeyframeSlam::loop_closure(int id) {
     f.reason = "too few icp inliers";
   } else {
     f.reason = "pcm pending";
+    shape(f, source, target);
     pcm_queue_.push_back(static_cast<int>(factors_.size()));
   }
   factors_.push_back(std::move(f));
@@ -208,8 +248,18 @@ UncertainSE2 KeyframeSlam::odometry_between(int i, int j) const {
   if (i > j) return inverse(odometry_between(j, i));
   UncertainSE2 chain;  // identity, zero covariance
   for (int k = i + 1; k <= j; ++k) {
-    const Factor& f = factors_[static_cast<size_t>(sequential_factor_[static_cast<size_t>(k)])];
-    chain = compose(chain, {f.T_from_to, covariance(f.sigma)});
+    // The motion k-1 -> k as the graph knows it: every accepted sequential factor between
+    // them (ICP and the DR factor beside it), informations added.
+    const size_t first = static_cast<size_t>(sequential_factor_[static_cast<size_t>(k)]);
+    const Factor& f = factors_[first];
+    Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+    int n = 0;
+    for (size_t q = first; q < factors_.size() && factors_[q].from == k - 1 && factors_[q].to == k; ++q) {
+      if (!factors_[q].accepted || factors_[q].kind == FactorKind::kLoopClosure) continue;
+      info += factors_[q].information();
+      ++n;
+    }
+    chain = compose(chain, {f.T_from_to, n > 1 ? Eigen::Matrix3d(info.inverse()) : f.covariance()});
   }
   chain.T = poses_[static_cast<size_t>(i)].inverse() * poses_[static_cast<size_t>(j)];
   return chain;
@@ -221,7 +271,7 @@ void KeyframeSlam::run_pcm() {
   std::vector<LoopCandidate> candidates;
   for (int i : pcm_queue_) {
     const Factor& f = factors_[static_cast<size_t>(i)];
-    candidates.push_back({f.from, f.to, {f.T_from_to, covariance(f.sigma)}});
+    candidates.push_back({f.from, f.to, {f.T_from_to, f.covariance()}});
   }
   const Adjacency adj = pcm_consistency(
       candidates, [this](int i, int j) { return odometry_between(i, j); }, config_.pcm_threshold);
@@ -239,7 +289,7 @@ void KeyframeSlam::run_pcm() {
 void KeyframeSlam::solve() {
   std::vector<GraphEdge> edges;
   for (const Factor& f : factors_) {
-    if (f.accepted && f.kind != FactorKind::kPrior) edges.push_back({f.from, f.to, f.T_from_to, f.sigma});
+    if (f.accepted && f.kind != FactorKind::kPrior) edges.push_back({f.from, f.to, f.T_from_to, f.sigma, f.mix});
   }
   last_solve_ = solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior, edges,
                                  config_.solver);

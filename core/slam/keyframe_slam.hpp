@@ -68,6 +68,14 @@ struct SlamConfig {
   // Loop-closure factors (SPEC: the ICP noise above). A loop match between views minutes
   // apart is less certain than a sequential one (docs/SLAM.md "Noise models").
   Eigen::Vector3d sigma_loop{0.5, 0.5, 0.05};
+  // Addition (docs/SLAM.md "Degenerate scan matches"): a scan-match factor (sequential or
+  // loop) constrains only what its fit observes. Its information, diag(1/sigma²) as above,
+  // is weakened along each eigen-direction of the fit's Hessian (icp_fit_information, in
+  // sigma-whitened coordinates) whose eigenvalue is below degeneracy_ratio × the largest,
+  // in proportion (a straight wall: translation along it). PCM and the SSM gate use the
+  // resulting covariances. 0 = off (every factor diag(1/sigma²), as SPEC §5).
+  double degeneracy_ratio = 0.1;
+  FitInformationConfig fit_information;
   PoseGraphConfig solver;
 };
 
@@ -82,6 +90,12 @@ struct Factor {
   Eigen::Vector3d sigma = Eigen::Vector3d::Zero();
   bool accepted = false;  // in the graph
   std::string reason;     // why accepted or rejected, e.g. "pcm clique 3", "icp not converged"
+  // Residual mixing of a scan match with weakly observed directions (GraphEdge::mix);
+  // identity otherwise. weakened: how many of the 3 directions were weakened.
+  Eigen::Matrix3d mix = Eigen::Matrix3d::Identity();
+  int weakened = 0;
+  Eigen::Matrix3d information() const;  // diag(1/sigma) mixᵀ mix diag(1/sigma)
+  Eigen::Matrix3d covariance() const;   // its inverse (unobserved directions: 1e6 × sigma²)
 };
 
 struct Keyframe {
@@ -114,6 +128,8 @@ class KeyframeSlam {
   void loop_closure(int id);
   void run_pcm();
   UncertainSE2 odometry_between(int i, int j) const;  // current estimate + chain covariance
+  // The mix of a scan-match factor with these sigmas, from its fit (identity when off).
+  void shape(Factor& f, const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target) const;
   // Points of cloud_V (keyframe at T_W_V) inside the sonar view of any of the keyframes `ids`.
   std::vector<Eigen::Vector2d> seen_from(const std::vector<Eigen::Vector2d>& cloud_V, const SE2& T_W_V,
                                          const std::vector<int>& ids) const;

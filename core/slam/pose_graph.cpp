@@ -81,15 +81,28 @@ namespace {
 // The Ceres cost functions: thin wrappers over the residuals above.
 class RelativePoseCost final : public ceres::SizedCostFunction<3, 3, 3> {
  public:
-  RelativePoseCost(const SE2& z, const Eigen::Vector3d& sigma) : z_(z), sigma_(sigma) {}
+  RelativePoseCost(const SE2& z, const Eigen::Vector3d& sigma, const Eigen::Matrix3d& mix)
+      : z_(z), sigma_(sigma), mix_(mix), mixed_(!mix.isIdentity(0.0)) {}
   bool Evaluate(double const* const* p, double* r, double** J) const override {
     relative_pose_residual(p[0], p[1], z_, sigma_, r, J ? J[0] : nullptr, J ? J[1] : nullptr);
+    if (mixed_) {
+      using Row3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+      Eigen::Map<Eigen::Vector3d> rv(r);
+      rv = (mix_ * rv).eval();
+      for (int k = 0; k < 2 && J != nullptr; ++k) {
+        if (J[k] == nullptr) continue;
+        Eigen::Map<Row3> Jk(J[k]);
+        Jk = (mix_ * Jk).eval();
+      }
+    }
     return true;
   }
 
  private:
   SE2 z_;
   Eigen::Vector3d sigma_;
+  Eigen::Matrix3d mix_;
+  bool mixed_;
 };
 
 class PosePriorCost final : public ceres::SizedCostFunction<3, 3> {
@@ -123,7 +136,7 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
   for (auto& p : x) problem.AddParameterBlock(p.data(), 3);
   problem.AddResidualBlock(new PosePriorCost(prior, prior_sigma), nullptr, x[0].data());
   for (const GraphEdge& e : edges) {
-    problem.AddResidualBlock(new RelativePoseCost(e.T_from_to, e.sigma), nullptr,
+    problem.AddResidualBlock(new RelativePoseCost(e.T_from_to, e.sigma, e.mix), nullptr,
                              x[static_cast<size_t>(e.from)].data(), x[static_cast<size_t>(e.to)].data());
   }
 

@@ -23,6 +23,10 @@ struct GraphEdge {
   int to = 0;
   SE2 T_from_to;
   Eigen::Vector3d sigma{0.1, 0.1, 0.01};  // x, y (m), theta (rad)
+  // Applied to the whitened residual diag(1/sigma) e: r = mix diag(1/sigma) e, so the
+  // information is diag(1/sigma) mixᵀ mix diag(1/sigma). Identity: the diagonal sigmas as
+  // they are; a scan match with unobserved directions weakens them (keyframe_slam.cpp).
+  Eigen::Matrix3d mix = Eigen::Matrix3d::Identity();
 };
 
 struct PoseGraphSummary {

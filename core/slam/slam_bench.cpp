@@ -63,7 +63,7 @@ void BM_PoseGraphSolveOnly(benchmark::State& state) {
   for (const auto& k : f.slam.keyframes()) start.push_back(se2_from_se3(k.T_W_V_slam));
   std::vector<GraphEdge> edges;
   for (const auto& fac : f.slam.factors()) {
-    if (fac.accepted && fac.kind != FactorKind::kPrior) edges.push_back({fac.from, fac.to, fac.T_from_to, fac.sigma});
+    if (fac.accepted && fac.kind != FactorKind::kPrior) edges.push_back({fac.from, fac.to, fac.T_from_to, fac.sigma, fac.mix});
   }
   for (auto _ : state) {
     auto poses = start;

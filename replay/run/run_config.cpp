@@ -262,6 +262,13 @@ Table root_table(RunConfig& c) {
                       {"sigma_odometry", sigma(s.sigma_odometry)},
                       {"sigma_icp", sigma(s.sigma_icp)},
                       {"sigma_loop", sigma(s.sigma_loop)},
+                      {"degeneracy_ratio", real(s.degeneracy_ratio, 0.0, 1.0)},
+                      {"fit_information", nested([&s] {
+                         auto& f = s.fit_information;
+                         return Table{{"max_correspondence_m", real(f.max_correspondence_m, 0.0, 100.0, true)},
+                                      {"normal_radius_m", real(f.normal_radius_m, 0.0, 100.0, true)},
+                                      {"line_ratio", real(f.line_ratio, 0.0, 1.0)}};
+                       })},
                       {"icp", nested([&s] {
                          return Table{{"max_iterations", integer(s.icp.max_iterations, 1, 10000)},
                                       {"max_correspondence_m", real(s.icp.max_correspondence_m, 0.0, 1000.0, true)},
@@ -377,6 +384,10 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"sigma_odometry", {s.sigma_odometry.x(), s.sigma_odometry.y(), s.sigma_odometry.z()}},
                 {"sigma_icp", {s.sigma_icp.x(), s.sigma_icp.y(), s.sigma_icp.z()}},
                 {"sigma_loop", {s.sigma_loop.x(), s.sigma_loop.y(), s.sigma_loop.z()}},
+                {"degeneracy_ratio", s.degeneracy_ratio},
+                {"fit_information", {{"max_correspondence_m", s.fit_information.max_correspondence_m},
+                                     {"normal_radius_m", s.fit_information.normal_radius_m},
+                                     {"line_ratio", s.fit_information.line_ratio}}},
                 {"icp", {{"max_iterations", s.icp.max_iterations},
                          {"max_correspondence_m", s.icp.max_correspondence_m},
                          {"trim_fraction", s.icp.trim_fraction}}}}},

@@ -96,6 +96,7 @@ std::string keyframe_table_csv(const slam::KeyframeSlam& slam) {
     if (!s.empty()) s += ';';
     s += std::string(slam::factor_kind_name(f.kind)) + ":" + std::to_string(f.from) + ">" +
          std::to_string(f.to) + ":" + (f.accepted ? "1" : "0");
+    if (f.weakened > 0) s += ":w" + std::to_string(f.weakened);  // weakly observed directions
   }
   for (const auto& k : slam.keyframes()) {
     out += std::to_string(k.id) + "," + std::to_string(k.stamp.ns());
