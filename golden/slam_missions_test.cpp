@@ -102,6 +102,14 @@ Outcome fly(const Mission& m) {
   return o;
 }
 
+Mission mission(std::string scene, double duration_s, uint64_t seed = 3) {
+  Mission m;
+  m.scene = std::move(scene);
+  m.duration_s = duration_s;
+  m.seed = seed;
+  return m;
+}
+
 // docs/CONFIG.md "A navigation suite with a poorer heading reference".
 constexpr const char* kPoorHeadingConfig = "slam: {sigma_odometry: [0.2, 0.2, 0.02], ssm_keep_dr_factor: false}";
 
@@ -112,14 +120,14 @@ constexpr const char* kPoorHeadingConfig = "slam: {sigma_odometry: [0.2, 0.2, 0.
 // matches") SLAM was 2.15 m here, worse than DR's 1.45 m. (Seed 3 has long stretches without
 // structure in range, where SLAM can only follow DR: DR 2.86 m, SLAM 2.13 m; issue 20.)
 TEST_CASE("harbor beyond one lap, defaults: SLAM within 0.5 m of truth and at most half of DR", "[golden]") {
-  const auto r = fly({"harbor", 1000.0, 1});
+  const auto r = fly(mission("harbor", 1000.0, 1));
   CHECK(r.connected);
   CHECK(r.ate_slam <= 0.5);
   CHECK(r.ate_slam <= 0.5 * r.ate_dr);
 }
 
 TEST_CASE("marina1 two laps, defaults: SLAM within 0.35 m of truth and at most half of DR", "[golden]") {
-  const auto r = fly({"marina1", 840.0});
+  const auto r = fly(mission("marina1", 840.0));
   CHECK(r.connected);
   CHECK(r.loops >= 1);
   CHECK(r.ate_slam <= 0.35);
@@ -128,7 +136,7 @@ TEST_CASE("marina1 two laps, defaults: SLAM within 0.35 m of truth and at most h
 
 // A consumer-grade heading with the configuration documented for it.
 TEST_CASE("marina1 two laps, consumer-grade heading: loops close and SLAM is within 0.5 m", "[golden]") {
-  Mission m{"marina1", 840.0};
+  Mission m = mission("marina1", 840.0);
   m.consumer_heading = true;
   m.run_yaml = kPoorHeadingConfig;
   const auto r = fly(m);
@@ -140,7 +148,7 @@ TEST_CASE("marina1 two laps, consumer-grade heading: loops close and SLAM is wit
 }
 
 TEST_CASE("A 20 s DVL outage in a marina1 mission: no crash, a connected graph, the gap reported", "[golden]") {
-  Mission m{"marina1", 200.0};
+  Mission m = mission("marina1", 200.0);
   m.dvl_outage_from_s = 90.0;
   m.dvl_outage_to_s = 110.0;
   const auto r = fly(m);
@@ -156,7 +164,7 @@ TEST_CASE("A 20 s DVL outage in a marina1 mission: no crash, a connected graph, 
 TEST_CASE("SLAM and DR ATE on all four scenes", "[.][slam-table]") {
   for (const char* scene : {"marina1", "marina2", "harbor", "aircraft"}) {
     for (uint64_t seed : {3, 4}) {
-      Mission d{scene, 1000.0, seed};
+      Mission d = mission(scene, 1000.0, seed);
       CHECK(fly(d).connected);
       Mission c = d;
       c.consumer_heading = true;
