@@ -73,9 +73,6 @@ struct FusionResult {
 
 FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfig& config);
 
-// CFAR detections of the beams with |bearing| <= max_abs_bearing_rad, computed on that strip
-// of the image plus the margin its windows need: the same list as cfar_detect on the whole
-// image restricted to those beams.
 // Median intensity of each row (the lower median; raw image units), computed on demand and
 // kept: the local noise floor of the fusion gate. Exposed for tests.
 class RowMedians {
@@ -91,6 +88,9 @@ class RowMedians {
   std::vector<uint16_t> scratch_;
 };
 
+// CFAR detections of the beams with |bearing| <= max_abs_bearing_rad, computed on that strip
+// of the image plus the margin its windows need: the same list as cfar_detect on the whole
+// image restricted to those beams.
 std::vector<Detection> cfar_detect_within(const SonarPing& p, const CfarConfig& cfg, double max_abs_bearing_rad);
 
 // Horizontal detections as planar points in V (φ = 0; SLAM, paper §IV-A): x, y of

@@ -39,6 +39,21 @@ FusionResult render_and_fuse(const std::vector<Target>& targets, uint64_t seed,
   return fuse_pair(h, v, cfg);
 }
 
+// An h/v pair of 200 bins x 256 beams (±32°, uniform) on a flat background of 5.
+std::pair<SonarPing, SonarPing> flat_pair() {
+  SonarPing h, v;
+  for (SonarPing* p : {&h, &v}) {
+    p->rows = 200;
+    p->cols = 256;
+    p->range_resolution_m = 0.05;
+    for (int c = 0; c < p->cols; ++c) p->bearings_rad.push_back((-32.0 + 64.0 * c / 255.0) * std::numbers::pi / 180.0);
+    p->image.assign(static_cast<size_t>(p->rows) * p->cols, 5);
+  }
+  h.mount = SonarMount::kHorizontal;
+  v.mount = SonarMount::kVertical;
+  return {std::move(h), std::move(v)};
+}
+
 }  // namespace
 
 TEST_CASE("A point target inside the overlap fuses within one bin and one beam", "[unit]") {
@@ -164,16 +179,7 @@ TEST_CASE("The overlap strip's CFAR equals the whole image's CFAR restricted to 
 
 TEST_CASE("peak_window_deg keeps one candidate per main lobe: a blurred target fuses at its peak beam", "[unit]") {
   // h: a target blurred over 7 beams at one range, brightest in the middle; v: one target.
-  SonarPing h, v;
-  for (SonarPing* p : {&h, &v}) {
-    p->rows = 200;
-    p->cols = 256;
-    p->range_resolution_m = 0.05;
-    for (int c = 0; c < p->cols; ++c) p->bearings_rad.push_back((-32.0 + 64.0 * c / 255.0) * std::numbers::pi / 180.0);
-    p->image.assign(static_cast<size_t>(p->rows) * p->cols, 5);
-  }
-  h.mount = SonarMount::kHorizontal;
-  v.mount = SonarMount::kVertical;
+  auto [h, v] = flat_pair();
   const int row = 120, mid = 128;
   const uint8_t blur[7] = {120, 160, 200, 250, 200, 160, 120};
   for (int k = 0; k < 7; ++k) h.image[static_cast<size_t>(row) * h.cols + static_cast<size_t>(mid - 3 + k)] = blur[k];
@@ -194,17 +200,9 @@ TEST_CASE("peak_window_deg keeps one candidate per main lobe: a blurred target f
 TEST_CASE("noise_floor_factor drops candidates under the local noise floor (largest row median within ±rows)",
           "[unit]") {
   // Both images: background 5 in rows < 150 and 60 from row 150 on (a TVG-lifted far field).
-  SonarPing h, v;
-  for (SonarPing* p : {&h, &v}) {
-    p->rows = 200;
-    p->cols = 256;
-    p->range_resolution_m = 0.05;
-    for (int c = 0; c < p->cols; ++c) p->bearings_rad.push_back((-32.0 + 64.0 * c / 255.0) * std::numbers::pi / 180.0);
-    p->image.assign(static_cast<size_t>(p->rows) * p->cols, 5);
+  auto [h, v] = flat_pair();
+  for (SonarPing* p : {&h, &v})
     for (size_t i = 150 * static_cast<size_t>(p->cols); i < p->image.size(); ++i) p->image[i] = 60;
-  }
-  h.mount = SonarMount::kHorizontal;
-  v.mount = SonarMount::kVertical;
   RowMedians med(h);
   CHECK(med(10) == 5.0);
   CHECK(med(150) == 60.0);
