@@ -53,35 +53,30 @@ long Grid2d::nearest(const Eigen::Vector2d& q, double max_dist, double* dist2) c
   return best;
 }
 
-size_t Grid2d::count_within(const Eigen::Vector2d& q, double radius) const {
+template <class F>
+void Grid2d::for_each_within(const Eigen::Vector2d& q, double radius, F&& f) const {
   const auto r = static_cast<long long>(std::ceil(radius / cell_m_));
   const auto qx = static_cast<long long>(std::floor(q.x() / cell_m_));
   const auto qy = static_cast<long long>(std::floor(q.y() / cell_m_));
   const double r2 = radius * radius;
-  size_t n = 0;
   for (long long cx = qx - r; cx <= qx + r; ++cx) {
     for (long long cy = qy - r; cy <= qy + r; ++cy) {
       for_cell(cx, cy, [&](long i) {
-        if (((*points_)[static_cast<size_t>(i)] - q).squaredNorm() <= r2) ++n;
+        if (((*points_)[static_cast<size_t>(i)] - q).squaredNorm() <= r2) f(i);
       });
     }
   }
+}
+
+size_t Grid2d::count_within(const Eigen::Vector2d& q, double radius) const {
+  size_t n = 0;
+  for_each_within(q, radius, [&](long) { ++n; });
   return n;
 }
 
 std::vector<long> Grid2d::within(const Eigen::Vector2d& q, double radius) const {
-  const auto r = static_cast<long long>(std::ceil(radius / cell_m_));
-  const auto qx = static_cast<long long>(std::floor(q.x() / cell_m_));
-  const auto qy = static_cast<long long>(std::floor(q.y() / cell_m_));
-  const double r2 = radius * radius;
   std::vector<long> out;
-  for (long long cx = qx - r; cx <= qx + r; ++cx) {
-    for (long long cy = qy - r; cy <= qy + r; ++cy) {
-      for_cell(cx, cy, [&](long i) {
-        if (((*points_)[static_cast<size_t>(i)] - q).squaredNorm() <= r2) out.push_back(i);
-      });
-    }
-  }
+  for_each_within(q, radius, [&](long i) { out.push_back(i); });
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -75,6 +75,9 @@ class Grid2d {
   };
   template <class F>
   void for_cell(long long cx, long long cy, F&& f) const;
+  // f(index) for every point within radius of q (grid order).
+  template <class F>
+  void for_each_within(const Eigen::Vector2d& q, double radius, F&& f) const;
   const std::vector<Eigen::Vector2d>* points_;
   double cell_m_;
   std::vector<Entry> entries_;  // sorted by (cx, cy, index)
