@@ -97,6 +97,7 @@ int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
     const SE2 prior = se2_from_se3(T_W_V_dr);
     poses_.push_back(prior);
     sequential_factor_.push_back(-1);
+    sequential_cov_.push_back(Eigen::Matrix3d::Zero());
     factors_.push_back({FactorKind::kPrior, 0, 0, prior, config_.sigma_prior, true, "first pose"});
   } else {
     sequential_match(id);
@@ -185,6 +186,17 @@ void KeyframeSlam::sequential_match(int id) {
     factors_.push_back({FactorKind::kOdometryDr, prev, id, T_dr, config_.sigma_odometry, true,
                         "dead reckoning (beside icp)"});
   }
+  // The motion prev -> id as the graph knows it (PCM's odometry chain): ICP and the DR
+  // factor beside it, informations added.
+  const size_t first = static_cast<size_t>(sequential_factor_.back());
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  int n = 0;
+  for (size_t q = first; q < factors_.size(); ++q) {
+    if (!factors_[q].accepted) continue;
+    info += factors_[q].information();
+    ++n;
+  }
+  sequential_cov_.push_back(n > 1 ? Eigen::Matrix3d(info.inverse()) : factors_[first].covariance());
 }
 
 void KeyframeSlam::loop_closure(int id) {
@@ -248,18 +260,8 @@ UncertainSE2 KeyframeSlam::odometry_between(int i, int j) const {
   if (i > j) return inverse(odometry_between(j, i));
   UncertainSE2 chain;  // identity, zero covariance
   for (int k = i + 1; k <= j; ++k) {
-    // The motion k-1 -> k as the graph knows it: every accepted sequential factor between
-    // them (ICP and the DR factor beside it), informations added.
-    const size_t first = static_cast<size_t>(sequential_factor_[static_cast<size_t>(k)]);
-    const Factor& f = factors_[first];
-    Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
-    int n = 0;
-    for (size_t q = first; q < factors_.size() && factors_[q].from == k - 1 && factors_[q].to == k; ++q) {
-      if (!factors_[q].accepted || factors_[q].kind == FactorKind::kLoopClosure) continue;
-      info += factors_[q].information();
-      ++n;
-    }
-    chain = compose(chain, {f.T_from_to, n > 1 ? Eigen::Matrix3d(info.inverse()) : f.covariance()});
+    const Factor& f = factors_[static_cast<size_t>(sequential_factor_[static_cast<size_t>(k)])];
+    chain = compose(chain, {f.T_from_to, sequential_cov_[static_cast<size_t>(k)]});
   }
   chain.T = poses_[static_cast<size_t>(i)].inverse() * poses_[static_cast<size_t>(j)];
   return chain;

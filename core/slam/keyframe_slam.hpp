@@ -144,6 +144,9 @@ class KeyframeSlam {
   std::vector<SE2> poses_;                 // SE(2) estimates, one per keyframe
   std::vector<double> path_m_;             // DR path length (x, y) from the first keyframe
   std::vector<int> sequential_factor_;     // per keyframe k >= 1: factor linking k-1 -> k
+  // per keyframe k >= 1: covariance of the motion k-1 -> k as the graph knows it (every
+  // accepted sequential factor between them, informations added); fixed once k is added.
+  std::vector<Eigen::Matrix3d> sequential_cov_;
   std::vector<int> pcm_queue_;             // factor indices of the last loop candidates
   PoseGraphSummary last_solve_;
 };
