@@ -93,6 +93,7 @@ int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
                                                    .head<2>()
                                                    .norm());
   keyframes_.push_back(std::move(kf));
+  const size_t loops_before = accepted_loop_closures();
   if (id == 0) {
     const SE2 prior = se2_from_se3(T_W_V_dr);
     poses_.push_back(prior);
@@ -103,7 +104,9 @@ int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
     sequential_match(id);
     loop_closure(id);
   }
-  solve();
+  // No loop closure joined the graph: the new keyframe hangs off the previous one alone,
+  // and the optimum of the rest is the one already solved (solve_leaf_pose).
+  solve(id > 0 && accepted_loop_closures() == loops_before ? id : -1);
   return id;
 }
 
@@ -288,14 +291,17 @@ void KeyframeSlam::run_pcm() {
   }
 }
 
-void KeyframeSlam::solve() {
+void KeyframeSlam::solve(int leaf) {
   std::vector<GraphEdge> edges;
   for (const Factor& f : factors_) {
-    if (f.accepted && f.kind != FactorKind::kPrior) edges.push_back({f.from, f.to, f.T_from_to, f.sigma, f.mix});
+    if (!f.accepted || f.kind == FactorKind::kPrior) continue;
+    if (leaf >= 0 && f.from != leaf && f.to != leaf) continue;
+    edges.push_back({f.from, f.to, f.T_from_to, f.sigma, f.mix});
   }
-  last_solve_ = solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior, edges,
-                                 config_.solver);
-  for (size_t k = 0; k < keyframes_.size(); ++k) {
+  last_solve_ = leaf >= 0 ? solve_leaf_pose(poses_, leaf, edges, config_.solver)
+                          : solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior,
+                                             edges, config_.solver);
+  for (size_t k = leaf >= 0 ? static_cast<size_t>(leaf) : 0; k < keyframes_.size(); ++k) {
     Keyframe& kf = keyframes_[k];
     const Vec3 rpy = rpy_from_rotation(kf.T_W_V_dr.rotation());
     kf.T_W_V_slam = se3_from_se2(poses_[k], kf.T_W_V_dr.translation().z(), rpy.x(), rpy.y());

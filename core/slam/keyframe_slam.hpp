@@ -113,7 +113,8 @@ class KeyframeSlam {
   // True for the first keyframe, then when the DR distance or yaw change since the last
   // keyframe reaches the thresholds.
   bool should_add(const SE3& T_W_V_dr) const;
-  // Adds a keyframe (SSM vs the previous keyframes, NSSM + PCM, warm-started re-solve).
+  // Adds a keyframe (SSM vs the previous keyframes, NSSM + PCM, warm-started re-solve of
+  // the whole graph when a loop closure joined it, of the new pose alone otherwise).
   // planar_points_V: horizontal-sonar detections in V with elevation 0 (x, y). Returns its id.
   int add_keyframe(Time stamp, const SE3& T_W_V_dr, std::vector<Eigen::Vector2d> planar_points_V);
 
@@ -134,7 +135,8 @@ class KeyframeSlam {
   std::vector<Eigen::Vector2d> seen_from(const std::vector<Eigen::Vector2d>& cloud_V, const SE2& T_W_V,
                                          const std::vector<int>& ids) const;
   std::vector<Eigen::Vector2d> aggregate(const std::vector<int>& ids, int frame) const;
-  void solve();
+  // The whole graph (leaf < 0), or only keyframe `leaf` when nothing else can have moved.
+  void solve(int leaf);
   double gate_range_m() const { return config_.nssm_range_m + config_.gate_margin_m; }
   double gate_fov_deg() const { return config_.nssm_fov_deg + 2.0 * config_.gate_margin_deg; }
 

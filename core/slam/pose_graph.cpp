@@ -120,31 +120,18 @@ class PosePriorCost final : public ceres::SizedCostFunction<3, 3> {
 
 }  // namespace
 
-PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
-                                  const Eigen::Vector3d& prior_sigma,
-                                  const std::vector<GraphEdge>& edges,
-                                  const PoseGraphConfig& config) {
-  PoseGraphSummary out;
-  if (poses.empty()) return out;
-  std::vector<std::array<double, 3>> x(poses.size());
-  for (size_t i = 0; i < poses.size(); ++i) x[i] = {poses[i].x, poses[i].y, poses[i].theta};
+namespace {
 
-  ceres::Problem::Options popt;
-  popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-  popt.enable_fast_removal = false;
-  ceres::Problem problem(popt);
-  for (auto& p : x) problem.AddParameterBlock(p.data(), 3);
-  problem.AddResidualBlock(new PosePriorCost(prior, prior_sigma), nullptr, x[0].data());
-  for (const GraphEdge& e : edges) {
-    problem.AddResidualBlock(new RelativePoseCost(e.T_from_to, e.sigma, e.mix), nullptr,
-                             x[static_cast<size_t>(e.from)].data(), x[static_cast<size_t>(e.to)].data());
-  }
-
+// Every option set explicitly, single-threaded: results are bit-reproducible. The sparse
+// Cholesky is Eigen's (simplicial LDLT, AMD ordering): on a 1000-keyframe graph it
+// factorises in a third of the time CHOLMOD's supernodal path takes, whose BLAS calls on
+// blocks this small are mostly OpenMP thread wake-ups (docs/BENCHMARKS.md).
+ceres::Solver::Options solver_options(const PoseGraphConfig& config) {
   ceres::Solver::Options opt;
   opt.minimizer_type = ceres::TRUST_REGION;
   opt.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   opt.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  opt.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  opt.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   opt.num_threads = 1;
   opt.max_num_iterations = config.max_iterations;
   opt.function_tolerance = config.function_tolerance;
@@ -155,17 +142,85 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
   opt.minimizer_progress_to_stdout = false;
   opt.logging_type = ceres::SILENT;
   opt.update_state_every_iteration = false;
+  return opt;
+}
 
-  ceres::Solver::Summary summary;
-  ceres::Solve(opt, &problem, &summary);
+ceres::Problem::Options problem_options() {
+  ceres::Problem::Options popt;
+  popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  popt.enable_fast_removal = false;
+  return popt;
+}
+
+PoseGraphSummary summarise(const ceres::Solver::Summary& summary) {
+  PoseGraphSummary out;
   out.usable = summary.IsSolutionUsable();
   out.iterations = static_cast<int>(summary.iterations.size());
   out.initial_cost = summary.initial_cost;
   out.final_cost = summary.final_cost;
+  return out;
+}
+
+}  // namespace
+
+PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
+                                  const Eigen::Vector3d& prior_sigma,
+                                  const std::vector<GraphEdge>& edges,
+                                  const PoseGraphConfig& config) {
+  PoseGraphSummary out;
+  if (poses.empty()) return out;
+  std::vector<std::array<double, 3>> x(poses.size());
+  for (size_t i = 0; i < poses.size(); ++i) x[i] = {poses[i].x, poses[i].y, poses[i].theta};
+
+  ceres::Problem problem(problem_options());
+  for (auto& p : x) problem.AddParameterBlock(p.data(), 3);
+  problem.AddResidualBlock(new PosePriorCost(prior, prior_sigma), nullptr, x[0].data());
+  for (const GraphEdge& e : edges) {
+    problem.AddResidualBlock(new RelativePoseCost(e.T_from_to, e.sigma, e.mix), nullptr,
+                             x[static_cast<size_t>(e.from)].data(), x[static_cast<size_t>(e.to)].data());
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options(config), &problem, &summary);
+  out = summarise(summary);
   if (out.usable) {
     for (size_t i = 0; i < poses.size(); ++i) {
       poses[i] = {x[i][0], x[i][1], wrap_angle(x[i][2])};
     }
+  }
+  return out;
+}
+
+PoseGraphSummary solve_leaf_pose(std::vector<SE2>& poses, int leaf,
+                                 const std::vector<GraphEdge>& edges,
+                                 const PoseGraphConfig& config) {
+  PoseGraphSummary out;
+  if (leaf < 0 || static_cast<size_t>(leaf) >= poses.size()) return out;
+  // Only the leaf and the poses its edges reach; those are held constant.
+  std::vector<std::array<double, 3>> x(poses.size());
+  ceres::Problem problem(problem_options());
+  const auto block = [&](int i) {
+    auto& p = x[static_cast<size_t>(i)];
+    if (!problem.HasParameterBlock(p.data())) {
+      const SE2& T = poses[static_cast<size_t>(i)];
+      p = {T.x, T.y, T.theta};
+      problem.AddParameterBlock(p.data(), 3);
+      if (i != leaf) problem.SetParameterBlockConstant(p.data());
+    }
+    return p.data();
+  };
+  block(leaf);
+  for (const GraphEdge& e : edges) {
+    if (e.from != leaf && e.to != leaf) continue;
+    problem.AddResidualBlock(new RelativePoseCost(e.T_from_to, e.sigma, e.mix), nullptr,
+                             block(e.from), block(e.to));
+  }
+  if (problem.NumResidualBlocks() == 0) return out;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options(config), &problem, &summary);
+  out = summarise(summary);
+  if (out.usable) {
+    const auto& p = x[static_cast<size_t>(leaf)];
+    poses[static_cast<size_t>(leaf)] = {p[0], p[1], wrap_angle(p[2])};
   }
   return out;
 }

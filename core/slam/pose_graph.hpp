@@ -2,6 +2,7 @@
 // SE(2) pose graph on Ceres (SPEC §5): relative-pose residuals weighted by the square-root
 // information (diagonal sigmas), analytic Jacobians, first pose anchored by a prior.
 // Single-threaded with every option set explicitly, so results are bit-reproducible.
+// Eigen's sparse Cholesky (simplicial LDLT) solves the normal equations.
 // Ceres stays out of this header (its glog CHECK macro would clash with Catch's).
 #include <vector>
 
@@ -13,7 +14,9 @@ namespace orthosonar::slam {
 
 struct PoseGraphConfig {
   int max_iterations = 20;           // warm-started re-solves converge in a few
-  double function_tolerance = 1e-10;
+  // Ceres' default. 1e-10 took 8 iterations instead of 5 to re-solve a 1000-keyframe graph
+  // after a loop closure, for pose changes below a micrometre (docs/BENCHMARKS.md).
+  double function_tolerance = 1e-6;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
 };
@@ -53,5 +56,13 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
                                   const Eigen::Vector3d& prior_sigma,
                                   const std::vector<GraphEdge>& edges,
                                   const PoseGraphConfig& config);
+
+// Optimises one pose, `leaf`, over the edges that touch it, every other pose held where it
+// is. When a new keyframe is joined to the graph only through edges to poses already
+// optimised (no new loop closure), the full problem's optimum is the old one plus this
+// leaf's: the leaf can meet its own edges' weighted optimum wherever its neighbours are.
+PoseGraphSummary solve_leaf_pose(std::vector<SE2>& poses, int leaf,
+                                 const std::vector<GraphEdge>& edges,
+                                 const PoseGraphConfig& config);
 
 }  // namespace orthosonar::slam

@@ -86,3 +86,50 @@ TEST_CASE("Pose graph with a loop closure distributes a yaw drift", "[unit]") {
     CHECK(again[i].theta == poses[i].theta);
   }
 }
+
+TEST_CASE("A leaf joined by two disagreeing edges: solving it alone equals re-solving the graph", "[unit]") {
+  // The drifting square with its loop closure, solved; then a new pose joined to the last
+  // one by two measurements of the same motion that disagree (a scan match and DR, one with
+  // a weakened direction). Re-solving everything moves the other poses by no more than the
+  // solver's tolerance (function_tolerance 1e-10 here: about 1e-6 m and 1e-7 rad), and the leaf lands where solve_leaf_pose puts it.
+  const double q = 1.5707963267948966;
+  PoseGraphConfig tight;
+  tight.function_tolerance = 1e-10;
+  std::vector<GraphEdge> edges;
+  std::vector<SE2> poses{{0, 0, 0}};
+  for (int i = 0; i < 4; ++i) {
+    const SE2 step{10, 0, q + 0.087};
+    edges.push_back({i, i + 1, step, {0.2, 0.2, 0.02}});
+    poses.push_back(poses.back() * step);
+  }
+  edges.push_back({0, 4, SE2{0, 0, 0}, {0.1, 0.1, 0.01}});
+  REQUIRE(solve_pose_graph(poses, SE2{0, 0, 0}, {0.1, 0.1, 0.01}, edges, tight).usable);
+  GraphEdge icp{4, 5, SE2{2.0, 0.3, 0.05}, {0.1, 0.1, 0.01}};
+  icp.mix = Eigen::Vector3d(0.3, 1.0, 1.0).asDiagonal();
+  edges.push_back(icp);
+  edges.push_back({4, 5, SE2{2.2, 0.0, 0.02}, {0.05, 0.05, 0.005}});
+  poses.push_back(poses[4] * icp.T_from_to);
+  auto leaf = poses;
+  auto full = poses;
+  const auto ls = solve_leaf_pose(leaf, 5, edges, tight);
+  REQUIRE(ls.usable);
+  CHECK(ls.final_cost < ls.initial_cost);
+  REQUIRE(solve_pose_graph(full, SE2{0, 0, 0}, {0.1, 0.1, 0.01}, edges, tight).usable);
+  for (size_t i = 0; i < 5; ++i) {
+    CHECK(leaf[i].x == poses[i].x);  // held exactly
+    CHECK(std::abs(full[i].x - poses[i].x) < 1e-5);
+    CHECK(std::abs(full[i].y - poses[i].y) < 1e-5);
+    CHECK(std::abs(full[i].theta - poses[i].theta) < 1e-6);
+  }
+  const SE2 d = full[5].inverse() * leaf[5];
+  CHECK(std::hypot(d.x, d.y) < 1e-5);
+  CHECK(std::abs(d.theta) < 1e-6);
+  // Between the two measurements, not at either.
+  const SE2 rel = leaf[4].inverse() * leaf[5];
+  CHECK(rel.x > 2.0 + 1e-3);
+  CHECK(rel.x < 2.2 - 1e-3);
+  // A pose no edge touches is left alone.
+  auto lone = poses;
+  CHECK_FALSE(solve_leaf_pose(lone, 3, {}, {}).usable);
+  CHECK(lone[3].x == poses[3].x);
+}
