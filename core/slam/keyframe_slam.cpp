@@ -294,9 +294,7 @@ void KeyframeSlam::run_pcm() {
 void KeyframeSlam::solve(int leaf) {
   std::vector<GraphEdge> edges;
   for (const Factor& f : factors_) {
-    if (!f.accepted || f.kind == FactorKind::kPrior) continue;
-    if (leaf >= 0 && f.from != leaf && f.to != leaf) continue;
-    edges.push_back({f.from, f.to, f.T_from_to, f.sigma, f.mix});
+    if (f.accepted && f.kind != FactorKind::kPrior) edges.push_back({f.from, f.to, f.T_from_to, f.sigma, f.mix});
   }
   last_solve_ = leaf >= 0 ? solve_leaf_pose(poses_, leaf, edges, config_.solver)
                           : solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior,

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 #include <functional>
+#include <utility>
 
 #include "core/random.hpp"
 
@@ -23,6 +24,21 @@ Eigen::Matrix3d numeric_jacobian(const Fn& f, std::vector<Eigen::Vector3d> x, si
     J.col(k) = (f(xp) - f(xm)) / (2 * h);
   }
   return J;
+}
+
+// A square of 4 sides of 10 m whose odometry turns 95 degrees instead of 90, and a loop
+// closure saying the last pose is the first. Poses: the odometry chained from the origin.
+std::pair<std::vector<GraphEdge>, std::vector<SE2>> drifting_square() {
+  const double q = 1.5707963267948966;
+  std::vector<GraphEdge> edges;
+  std::vector<SE2> poses{{0, 0, 0}};
+  for (int i = 0; i < 4; ++i) {
+    const SE2 step{10, 0, q + 0.087};
+    edges.push_back({i, i + 1, step, {0.2, 0.2, 0.02}});
+    poses.push_back(poses.back() * step);
+  }
+  edges.push_back({0, 4, SE2{0, 0, 0}, {0.1, 0.1, 0.01}});
+  return {edges, poses};
 }
 
 }  // namespace
@@ -61,25 +77,14 @@ TEST_CASE("Relative pose and prior Jacobians match numeric differentiation", "[u
 }
 
 TEST_CASE("Pose graph with a loop closure distributes a yaw drift", "[unit]") {
-  // A square of 4 sides of 10 m; odometry turns 95 degrees instead of 90; the loop
-  // closure says the last pose is the first.
-  const double q = 1.5707963267948966;
-  std::vector<GraphEdge> edges;
-  std::vector<SE2> poses{{0, 0, 0}};
-  for (int i = 0; i < 4; ++i) {
-    const SE2 step{10, 0, q + 0.087};
-    edges.push_back({i, i + 1, step, {0.2, 0.2, 0.02}});
-    poses.push_back(poses.back() * step);
-  }
-  edges.push_back({0, 4, SE2{0, 0, 0}, {0.1, 0.1, 0.01}});
+  auto [edges, poses] = drifting_square();
   const auto s = solve_pose_graph(poses, SE2{0, 0, 0}, {0.1, 0.1, 0.01}, edges, {});
   REQUIRE(s.usable);
   CHECK(s.final_cost < s.initial_cost);
   CHECK(std::hypot(poses[4].x, poses[4].y) < 0.3);
   CHECK(std::abs(wrap_angle(poses[4].theta)) < 0.05);
   // Deterministic: solving again from the same start gives bit-identical poses.
-  std::vector<SE2> again{{0, 0, 0}};
-  for (int i = 0; i < 4; ++i) again.push_back(again.back() * edges[static_cast<size_t>(i)].T_from_to);
+  auto again = drifting_square().second;
   (void)solve_pose_graph(again, SE2{0, 0, 0}, {0.1, 0.1, 0.01}, edges, {});
   for (size_t i = 0; i < poses.size(); ++i) {
     CHECK(again[i].x == poses[i].x);
@@ -92,17 +97,9 @@ TEST_CASE("A leaf joined by two disagreeing edges: solving it alone equals re-so
   // one by two measurements of the same motion that disagree (a scan match and DR, one with
   // a weakened direction). Re-solving everything moves the other poses by no more than the
   // solver's tolerance (function_tolerance 1e-10 here: about 1e-6 m and 1e-7 rad), and the leaf lands where solve_leaf_pose puts it.
-  const double q = 1.5707963267948966;
   PoseGraphConfig tight;
   tight.function_tolerance = 1e-10;
-  std::vector<GraphEdge> edges;
-  std::vector<SE2> poses{{0, 0, 0}};
-  for (int i = 0; i < 4; ++i) {
-    const SE2 step{10, 0, q + 0.087};
-    edges.push_back({i, i + 1, step, {0.2, 0.2, 0.02}});
-    poses.push_back(poses.back() * step);
-  }
-  edges.push_back({0, 4, SE2{0, 0, 0}, {0.1, 0.1, 0.01}});
+  auto [edges, poses] = drifting_square();
   REQUIRE(solve_pose_graph(poses, SE2{0, 0, 0}, {0.1, 0.1, 0.01}, edges, tight).usable);
   GraphEdge icp{4, 5, SE2{2.0, 0.3, 0.05}, {0.1, 0.1, 0.01}};
   icp.mix = Eigen::Vector3d(0.3, 1.0, 1.0).asDiagonal();
