@@ -5,6 +5,7 @@
 // the truth stream). Reduced resolution keeps it fast; the figures are in docs/SLAM.md.
 #include <catch2/catch.hpp>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "hal/sim/simulator.hpp"
@@ -32,6 +33,7 @@ struct Outcome {
   double ate_dr = 0.0;
   double ate_slam = 0.0;
   bool connected = true;
+  double drift_dps = 0.0;  // the estimated heading drift (slam.heading_drift_sigma_dps > 0)
   slam::DrCounts dr_counts;
 };
 
@@ -87,6 +89,7 @@ Outcome fly(const Mission& m) {
   o.loops = slam.accepted_loop_closures();
   o.ate_dr = *r->ate_dr_m;
   o.ate_slam = *r->ate_slam_m;
+  o.drift_dps = slam.heading_drift_rad_s() * 180.0 / std::numbers::pi;
   o.dr_counts = r->pipeline->dead_reckoning().counts();
   for (size_t k = 1; k < slam.keyframes().size(); ++k) {
     bool linked = false;
@@ -96,9 +99,9 @@ Outcome fly(const Mission& m) {
     }
     o.connected &= linked;
   }
-  std::printf("slam mission %s %.0f s seed %llu%s: keyframes %zu, loop closures %zu, ATE DR %.3f m, SLAM %.3f m\n",
+  std::printf("slam mission %s %.0f s seed %llu%s: keyframes %zu, loop closures %zu, ATE DR %.3f m, SLAM %.3f m, drift %.4f deg/s\n",
               m.scene.c_str(), m.duration_s, static_cast<unsigned long long>(m.seed),
-              m.consumer_heading ? " (consumer heading)" : "", o.keyframes, o.loops, o.ate_dr, o.ate_slam);
+              m.consumer_heading ? " (consumer heading)" : "", o.keyframes, o.loops, o.ate_dr, o.ate_slam, o.drift_dps);
   return o;
 }
 
@@ -110,8 +113,11 @@ Mission mission(std::string scene, double duration_s, uint64_t seed = 3) {
   return m;
 }
 
-// docs/CONFIG.md "A navigation suite with a poorer heading reference".
+// SPEC §5's noise as written.
 constexpr const char* kPoorHeadingConfig = "slam: {sigma_odometry: [0.2, 0.2, 0.02], ssm_keep_dr_factor: false}";
+// docs/CONFIG.md "A navigation suite with a poorer heading reference": the DR heading's
+// drift estimated in the graph (docs/SLAM.md "Heading drift").
+constexpr const char* kDriftConfig = "slam: {heading_drift_sigma_dps: 0.05, heading_drift_every_keyframes: 10}";
 
 }  // namespace
 
@@ -134,17 +140,21 @@ TEST_CASE("marina1 two laps, defaults: SLAM within 0.35 m of truth and at most h
   CHECK(r.ate_slam <= 0.5 * r.ate_dr);
 }
 
-// A consumer-grade heading with the configuration documented for it.
-TEST_CASE("marina1 two laps, consumer-grade heading: loops close and SLAM is within 0.5 m", "[golden]") {
+// A consumer-grade heading with the configuration documented for it (docs/CONFIG.md): the
+// simulated 0.05 deg/s drift is found and taken out of DR's yaw, so the consumer-grade
+// heading maps as well as the default one. (SPEC §5's noise, documented for it before, gave
+// 0.364 m here; it stays in the "[slam-table]" runs below.)
+TEST_CASE("marina1 two laps, consumer-grade heading, drift estimated: the rate found, SLAM within 0.3 m", "[golden]") {
   Mission m = mission("marina1", 840.0);
   m.consumer_heading = true;
-  m.run_yaml = kPoorHeadingConfig;
+  m.run_yaml = kDriftConfig;
   const auto r = fly(m);
   CHECK(r.connected);
   CHECK(r.loops >= 1);
   CHECK(r.ate_dr > 1.0);
-  CHECK(r.ate_slam <= 0.5);
-  CHECK(r.ate_slam <= 0.5 * r.ate_dr);
+  CHECK(r.ate_slam <= 0.3);
+  CHECK(r.ate_slam <= 0.1 * r.ate_dr);
+  CHECK(std::abs(r.drift_dps - 0.05) <= 0.01);
 }
 
 TEST_CASE("A 20 s DVL outage in a marina1 mission: no crash, a connected graph, the gap reported", "[golden]") {
@@ -169,6 +179,8 @@ TEST_CASE("SLAM and DR ATE on all four scenes", "[.][slam-table]") {
       Mission c = d;
       c.consumer_heading = true;
       c.run_yaml = kPoorHeadingConfig;
+      CHECK(fly(c).connected);
+      c.run_yaml = kDriftConfig;
       CHECK(fly(c).connected);
     }
   }

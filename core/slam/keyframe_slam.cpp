@@ -106,7 +106,9 @@ int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
   }
   // No loop closure joined the graph: the new keyframe hangs off the previous one alone,
   // and the optimum of the rest is the one already solved (solve_leaf_pose).
-  solve(id > 0 && accepted_loop_closures() == loops_before ? id : -1);
+  const bool drift_update = config_.heading_drift_sigma_dps > 0.0 && config_.heading_drift_every_keyframes > 0 &&
+                            id % config_.heading_drift_every_keyframes == 0;
+  solve(id > 0 && accepted_loop_closures() == loops_before && !drift_update ? id : -1);
   return id;
 }
 
@@ -142,21 +144,26 @@ void KeyframeSlam::sequential_match(int id) {
   const int prev = id - 1;
   const SE2 T_dr = se2_from_se3(keyframes_[static_cast<size_t>(prev)].T_W_V_dr).inverse() *
                    se2_from_se3(cur.T_W_V_dr);
+  // DR's motion as the graph expects it (less the estimated heading drift): the ICP guess,
+  // the gate, and the new pose's starting value. The factor keeps the measurement.
+  const double dt_s = (cur.stamp - keyframes_[static_cast<size_t>(prev)].stamp).seconds();
+  SE2 T_dr_expected = T_dr;
+  T_dr_expected.theta -= heading_drift_rad_s_ * dt_s;
   std::vector<int> targets;
   for (int k = std::max(0, id - config_.ssm_target_frames); k < id; ++k) targets.push_back(k);
   // Both clouds cropped to what the other side could have seen (initial guess = DR), so
   // structure seen by only one of them does not pull the fit.
-  const auto target = gate_to_sonar_view(aggregate(targets, prev), T_dr.inverse(),
+  const auto target = gate_to_sonar_view(aggregate(targets, prev), T_dr_expected.inverse(),
                                          gate_range_m(), gate_fov_deg(), config_.sonar_x_m);
-  const auto source = seen_from(cur.cloud_V, poses_[static_cast<size_t>(prev)] * T_dr, targets);
+  const auto source = seen_from(cur.cloud_V, poses_[static_cast<size_t>(prev)] * T_dr_expected, targets);
   Factor f{FactorKind::kOdometryDr, prev, id, T_dr, config_.sigma_odometry, true, "dead reckoning"};
   if (source.size() < config_.ssm_min_points || target.size() < config_.ssm_min_points) {
     f.reason = "dead reckoning: too few points for icp";
   } else {
-    const IcpResult icp = icp_2d(source, target, T_dr, config_.icp);
+    const IcpResult icp = icp_2d(source, target, T_dr_expected, config_.icp);
     Factor m{FactorKind::kSequentialIcp, prev, id, icp.T_target_source, config_.sigma_icp, false, ""};
     if (icp.converged) shape(m, source, target);
-    const SE2 diff = T_dr.inverse() * icp.T_target_source;
+    const SE2 diff = T_dr_expected.inverse() * icp.T_target_source;
     bool close = std::hypot(diff.x, diff.y) <= config_.ssm_max_translation_m &&
                  std::abs(diff.theta) <= config_.ssm_max_rotation_deg * kDegToRad;
     if (close && config_.ssm_max_mahalanobis > 0.0) {
@@ -178,7 +185,8 @@ void KeyframeSlam::sequential_match(int id) {
       f.reason = "dead reckoning: icp rejected";
     }
   }
-  poses_.push_back(poses_[static_cast<size_t>(prev)] * f.T_from_to);
+  poses_.push_back(poses_[static_cast<size_t>(prev)] *
+                   (f.kind == FactorKind::kOdometryDr ? T_dr_expected : f.T_from_to));
   const bool icp_accepted = f.kind == FactorKind::kSequentialIcp;
   sequential_factor_.push_back(static_cast<int>(factors_.size()));
   factors_.push_back(std::move(f));
@@ -293,12 +301,24 @@ void KeyframeSlam::run_pcm() {
 
 void KeyframeSlam::solve(int leaf) {
   std::vector<GraphEdge> edges;
+  const bool drifting = config_.heading_drift_sigma_dps > 0.0;
   for (const Factor& f : factors_) {
-    if (f.accepted && f.kind != FactorKind::kPrior) edges.push_back({f.from, f.to, f.T_from_to, f.sigma, f.mix});
+    if (!f.accepted || f.kind == FactorKind::kPrior) continue;
+    GraphEdge e{f.from, f.to, f.T_from_to, f.sigma, f.mix};
+    if (drifting && f.kind == FactorKind::kOdometryDr) {
+      e.dt_s = (keyframes_[static_cast<size_t>(f.to)].stamp - keyframes_[static_cast<size_t>(f.from)].stamp).seconds();
+    }
+    edges.push_back(e);
   }
-  last_solve_ = leaf >= 0 ? solve_leaf_pose(poses_, leaf, edges, config_.solver)
-                          : solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior,
-                                             edges, config_.solver);
+  if (leaf >= 0) {
+    // The drift rate is held with the rest of the graph (the next full solve moves it).
+    last_solve_ = solve_leaf_pose(poses_, leaf, edges, config_.solver, heading_drift_rad_s_);
+  } else {
+    HeadingDrift drift{heading_drift_rad_s_, config_.heading_drift_sigma_dps * kDegToRad};
+    last_solve_ = solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior, edges,
+                                   config_.solver, &drift);
+    heading_drift_rad_s_ = drift.rate_rad_s;
+  }
   for (size_t k = leaf >= 0 ? static_cast<size_t>(leaf) : 0; k < keyframes_.size(); ++k) {
     Keyframe& kf = keyframes_[k];
     const Vec3 rpy = rpy_from_rotation(kf.T_W_V_dr.rotation());

@@ -75,6 +75,16 @@ struct SlamConfig {
   // in proportion (a straight wall: translation along it). PCM and the SSM gate use the
   // resulting covariances. 0 = off (every factor diag(1/sigma²), as SPEC §5).
   double degeneracy_ratio = 0.1;
+  // Addition (docs/SLAM.md "Heading drift"): sigma (deg/s) of a zero-mean prior on a steady
+  // drift of the DR heading (gyro bias, AHRS drift), estimated in the graph at every full
+  // solve and taken out of each DR factor's yaw (rate × the keyframes' time apart). A
+  // scan-match chain and DR disagree about heading at that rate; loop closures tell which
+  // is right. 0 = off (DR yaw increments as measured).
+  double heading_drift_sigma_dps = 0.0;
+  // With the drift estimated: also re-solve the whole graph (and the rate) every this many
+  // keyframes when no loop closure has, so a drift is taken out before the first loop
+  // closes (0 = only at loop closures).
+  int heading_drift_every_keyframes = 0;
   FitInformationConfig fit_information;
   PoseGraphConfig solver;
 };
@@ -123,6 +133,8 @@ class KeyframeSlam {
   size_t accepted_loop_closures() const;
   const SlamConfig& config() const { return config_; }
   const PoseGraphSummary& last_solve() const { return last_solve_; }
+  // The estimated drift of the DR heading (rad/s; 0 when heading_drift_sigma_dps is 0).
+  double heading_drift_rad_s() const { return heading_drift_rad_s_; }
 
  private:
   void sequential_match(int id);
@@ -151,6 +163,7 @@ class KeyframeSlam {
   std::vector<Eigen::Matrix3d> sequential_cov_;
   std::vector<int> pcm_queue_;             // factor indices of the last loop candidates
   PoseGraphSummary last_solve_;
+  double heading_drift_rad_s_ = 0.0;
 };
 
 }  // namespace orthosonar::slam

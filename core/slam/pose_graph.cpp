@@ -76,6 +76,26 @@ void pose_prior_residual(const double* x, const SE2& prior, const Eigen::Vector3
   }
 }
 
+SE2 drift_corrected(const GraphEdge& e, double rate_rad_s) {
+  SE2 z = e.T_from_to;
+  if (e.dt_s != 0.0) z.theta -= rate_rad_s * e.dt_s;
+  return z;
+}
+
+void drifting_pose_residual(const double* a, const double* b, const GraphEdge& e, double rate_rad_s,
+                            double* residual, double* J_a, double* J_b, double* J_rate) {
+  const SE2 z = drift_corrected(e, rate_rad_s);
+  relative_pose_residual(a, b, z, e.sigma, residual, J_a, J_b);
+  if (J_rate != nullptr) {
+    // z.theta = theta - rate dt: the yaw residual moves by +dt / sigma_theta, and the xy
+    // residual R(z)^T q rotates: d/d(z.theta) of (r0 / s0, r1 / s1) is (r1 / s1, -r0 / s0).
+    const double dt = e.dt_s;
+    J_rate[0] = -dt * (residual[1] * e.sigma[1]) / e.sigma[0];
+    J_rate[1] = dt * (residual[0] * e.sigma[0]) / e.sigma[1];
+    J_rate[2] = dt / e.sigma[2];
+  }
+}
+
 namespace {
 
 // The Ceres cost functions: thin wrappers over the residuals above.
@@ -103,6 +123,48 @@ class RelativePoseCost final : public ceres::SizedCostFunction<3, 3, 3> {
   Eigen::Vector3d sigma_;
   Eigen::Matrix3d mix_;
   bool mixed_;
+};
+
+// A DR edge whose yaw drifts with the heading: the rate is the third parameter block.
+class DriftingPoseCost final : public ceres::SizedCostFunction<3, 3, 3, 1> {
+ public:
+  explicit DriftingPoseCost(const GraphEdge& e) : e_(e) {}
+  bool Evaluate(double const* const* p, double* r, double** J) const override {
+    drifting_pose_residual(p[0], p[1], e_, p[2][0], r, J ? J[0] : nullptr, J ? J[1] : nullptr,
+                           J ? J[2] : nullptr);
+    if (!e_.mix.isIdentity(0.0)) {
+      using Row3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+      Eigen::Map<Eigen::Vector3d> rv(r);
+      rv = (e_.mix * rv).eval();
+      for (int k = 0; k < 2 && J != nullptr; ++k) {
+        if (J[k] == nullptr) continue;
+        Eigen::Map<Row3> Jk(J[k]);
+        Jk = (e_.mix * Jk).eval();
+      }
+      if (J != nullptr && J[2] != nullptr) {
+        Eigen::Map<Eigen::Vector3d> Jr(J[2]);
+        Jr = (e_.mix * Jr).eval();
+      }
+    }
+    return true;
+  }
+
+ private:
+  GraphEdge e_;
+};
+
+// Zero-mean prior on the drift rate.
+class DriftPriorCost final : public ceres::SizedCostFunction<1, 1> {
+ public:
+  explicit DriftPriorCost(double sigma) : inv_sigma_(1.0 / sigma) {}
+  bool Evaluate(double const* const* p, double* r, double** J) const override {
+    r[0] = inv_sigma_ * p[0][0];
+    if (J != nullptr && J[0] != nullptr) J[0][0] = inv_sigma_;
+    return true;
+  }
+
+ private:
+  double inv_sigma_;
 };
 
 class PosePriorCost final : public ceres::SizedCostFunction<3, 3> {
@@ -142,6 +204,7 @@ ceres::Solver::Options solver_options(const PoseGraphConfig& config) {
   opt.minimizer_progress_to_stdout = false;
   opt.logging_type = ceres::SILENT;
   opt.update_state_every_iteration = false;
+  opt.initial_trust_region_radius = config.initial_trust_region_radius;
   return opt;
 }
 
@@ -149,6 +212,9 @@ ceres::Problem::Options problem_options() {
   ceres::Problem::Options popt;
   popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   popt.enable_fast_removal = false;
+  // Every block and residual here is built by this file with the right sizes: Ceres'
+  // per-residual checks (a linear scan of the block's parameters) are skipped.
+  popt.disable_all_safety_checks = true;
   return popt;
 }
 
@@ -166,22 +232,31 @@ PoseGraphSummary summarise(const ceres::Solver::Summary& summary) {
 PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
                                   const Eigen::Vector3d& prior_sigma,
                                   const std::vector<GraphEdge>& edges,
-                                  const PoseGraphConfig& config) {
+                                  const PoseGraphConfig& config, HeadingDrift* drift) {
   PoseGraphSummary out;
   if (poses.empty()) return out;
+  const bool drifting = drift != nullptr && drift->prior_sigma_rad_s > 0.0;
+  double rate = drifting ? drift->rate_rad_s : 0.0;
   std::vector<std::array<double, 3>> x(poses.size());
   for (size_t i = 0; i < poses.size(); ++i) x[i] = {poses[i].x, poses[i].y, poses[i].theta};
 
   ceres::Problem problem(problem_options());
   for (auto& p : x) problem.AddParameterBlock(p.data(), 3);
   problem.AddResidualBlock(new PosePriorCost(prior, prior_sigma), nullptr, x[0].data());
+  if (drifting) problem.AddResidualBlock(new DriftPriorCost(drift->prior_sigma_rad_s), nullptr, &rate);
   for (const GraphEdge& e : edges) {
-    problem.AddResidualBlock(new RelativePoseCost(e.T_from_to, e.sigma, e.mix), nullptr,
-                             x[static_cast<size_t>(e.from)].data(), x[static_cast<size_t>(e.to)].data());
+    double* a = x[static_cast<size_t>(e.from)].data();
+    double* b = x[static_cast<size_t>(e.to)].data();
+    if (drifting && e.dt_s != 0.0) {
+      problem.AddResidualBlock(new DriftingPoseCost(e), nullptr, a, b, &rate);
+    } else {
+      problem.AddResidualBlock(new RelativePoseCost(drift_corrected(e, rate), e.sigma, e.mix), nullptr, a, b);
+    }
   }
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options(config), &problem, &summary);
   out = summarise(summary);
+  if (out.usable && drifting) drift->rate_rad_s = rate;
   if (out.usable) {
     for (size_t i = 0; i < poses.size(); ++i) {
       poses[i] = {x[i][0], x[i][1], wrap_angle(x[i][2])};
@@ -192,7 +267,7 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
 
 PoseGraphSummary solve_leaf_pose(std::vector<SE2>& poses, int leaf,
                                  const std::vector<GraphEdge>& edges,
-                                 const PoseGraphConfig& config) {
+                                 const PoseGraphConfig& config, double drift_rate_rad_s) {
   PoseGraphSummary out;
   if (leaf < 0 || static_cast<size_t>(leaf) >= poses.size()) return out;
   // Only the leaf and the poses its edges reach; those are held constant.
@@ -211,8 +286,8 @@ PoseGraphSummary solve_leaf_pose(std::vector<SE2>& poses, int leaf,
   block(leaf);
   for (const GraphEdge& e : edges) {
     if (e.from != leaf && e.to != leaf) continue;
-    problem.AddResidualBlock(new RelativePoseCost(e.T_from_to, e.sigma, e.mix), nullptr,
-                             block(e.from), block(e.to));
+    problem.AddResidualBlock(new RelativePoseCost(drift_corrected(e, drift_rate_rad_s), e.sigma, e.mix),
+                             nullptr, block(e.from), block(e.to));
   }
   if (problem.NumResidualBlocks() == 0) return out;
   ceres::Solver::Summary summary;

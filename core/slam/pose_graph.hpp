@@ -19,6 +19,20 @@ struct PoseGraphConfig {
   double function_tolerance = 1e-6;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
+  // Levenberg-Marquardt's first trust region (Ceres' default 1e4). A warm-started re-solve
+  // starts next to its optimum, where the Gauss-Newton step is good: a larger region takes
+  // it at once. 1e8 re-solved a 1000-keyframe graph after a loop closure in 3 iterations
+  // instead of 5 (docs/BENCHMARKS.md).
+  double initial_trust_region_radius = 1e8;
+};
+
+// A heading that drifts at a steady rate (a gyro's bias, the slow drift of an AHRS) makes
+// every dead-reckoning yaw increment too large by rate × dt. With prior_sigma_rad_s > 0 the
+// rate is one more unknown of the graph, with a zero-mean prior of that sigma; the edges
+// that carry dt_s > 0 (the DR factors) are corrected by it. 0: no drift state.
+struct HeadingDrift {
+  double rate_rad_s = 0.0;         // the estimate: warm start in, solution out
+  double prior_sigma_rad_s = 0.0;
 };
 
 struct GraphEdge {
@@ -30,6 +44,9 @@ struct GraphEdge {
   // information is diag(1/sigma) mixᵀ mix diag(1/sigma). Identity: the diagonal sigmas as
   // they are; a scan match with unobserved directions weakens them (keyframe_slam.cpp).
   Eigen::Matrix3d mix = Eigen::Matrix3d::Identity();
+  // Duration of the motion (s) when its yaw drifts with the heading (HeadingDrift): the
+  // expected yaw change is T_from_to.theta - rate * dt_s. 0: no drift (scan matches).
+  double dt_s = 0.0;
 };
 
 struct PoseGraphSummary {
@@ -51,18 +68,28 @@ void relative_pose_residual(const double* a, const double* b, const SE2& z,
 void pose_prior_residual(const double* x, const SE2& prior, const Eigen::Vector3d& sigma,
                          double* residual, double* J_x);
 
-// Optimises `poses` in place (they are the warm start). Pose 0 carries the prior.
+// The measurement an edge predicts at drift rate `rate`: its yaw less rate * dt_s.
+SE2 drift_corrected(const GraphEdge& e, double rate_rad_s);
+
+// The residual of relative_pose_residual for drift_corrected(e, rate), and its derivative
+// with respect to the rate (3 values) when J_rate is not null.
+void drifting_pose_residual(const double* a, const double* b, const GraphEdge& e, double rate_rad_s,
+                            double* residual, double* J_a, double* J_b, double* J_rate);
+
+// Optimises `poses` in place (they are the warm start). Pose 0 carries the prior. With
+// drift->prior_sigma_rad_s > 0 the drift rate is estimated too (drift->rate_rad_s in and out).
 PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
                                   const Eigen::Vector3d& prior_sigma,
                                   const std::vector<GraphEdge>& edges,
-                                  const PoseGraphConfig& config);
+                                  const PoseGraphConfig& config, HeadingDrift* drift = nullptr);
 
 // Optimises one pose, `leaf`, over the edges that touch it, every other pose held where it
 // is. When a new keyframe is joined to the graph only through edges to poses already
 // optimised (no new loop closure), the full problem's optimum is the old one plus this
 // leaf's: the leaf can meet its own edges' weighted optimum wherever its neighbours are.
+// A drift rate, when given, is held too (edges drift_corrected by it).
 PoseGraphSummary solve_leaf_pose(std::vector<SE2>& poses, int leaf,
                                  const std::vector<GraphEdge>& edges,
-                                 const PoseGraphConfig& config);
+                                 const PoseGraphConfig& config, double drift_rate_rad_s = 0.0);
 
 }  // namespace orthosonar::slam

@@ -130,3 +130,87 @@ TEST_CASE("A leaf joined by two disagreeing edges: solving it alone equals re-so
   CHECK_FALSE(solve_leaf_pose(lone, 3, {}, {}).usable);
   CHECK(lone[3].x == poses[3].x);
 }
+
+TEST_CASE("The drifting pose residual's Jacobians, the rate's included, match numeric differentiation", "[unit]") {
+  Rng rng(12);
+  for (int trial = 0; trial < 200; ++trial) {
+    GraphEdge e{0, 1, SE2{rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-3, 3)},
+                {rng.uniform(0.05, 0.3), rng.uniform(0.05, 0.3), rng.uniform(0.005, 0.05)}};
+    e.dt_s = rng.uniform(0.5, 20.0);
+    const double rate = rng.uniform(-0.01, 0.01);
+    const Eigen::Vector3d a(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-3, 3));
+    Eigen::Vector3d b(rng.uniform(-20, 20), rng.uniform(-20, 20), 0.0);
+    b[2] = a[2] + e.T_from_to.theta + rng.uniform(-1, 1);
+    // The rate rides along as the first coordinate of a third block.
+    const Fn f = [&](const std::vector<Eigen::Vector3d>& x) {
+      Eigen::Vector3d r;
+      drifting_pose_residual(x[0].data(), x[1].data(), e, x[2][0], r.data(), nullptr, nullptr, nullptr);
+      return r;
+    };
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Ja, Jb;
+    Eigen::Vector3d r, Jr;
+    drifting_pose_residual(a.data(), b.data(), e, rate, r.data(), Ja.data(), Jb.data(), Jr.data());
+    const std::vector<Eigen::Vector3d> x{a, b, Eigen::Vector3d(rate, 0, 0)};
+    CHECK((Eigen::Matrix3d(Ja) - numeric_jacobian(f, x, 0)).cwiseAbs().maxCoeff() < 1e-5);
+    CHECK((Eigen::Matrix3d(Jb) - numeric_jacobian(f, x, 1)).cwiseAbs().maxCoeff() < 1e-5);
+    CHECK((Jr - numeric_jacobian(f, x, 2).col(0)).cwiseAbs().maxCoeff() < 1e-4 * (1.0 + Jr.norm()));
+    // No drift: the plain relative-pose residual.
+    Eigen::Vector3d r0, r1;
+    drifting_pose_residual(a.data(), b.data(), e, 0.0, r0.data(), nullptr, nullptr, nullptr);
+    relative_pose_residual(a.data(), b.data(), e.T_from_to, e.sigma, r1.data(), nullptr, nullptr);
+    CHECK(r0 == r1);
+  }
+}
+
+TEST_CASE("A steady heading drift in the odometry is estimated against unbiased scan matches and a loop", "[unit]") {
+  // Two laps of a 40 x 20 m rectangle, keyframes 4 s apart. DR's yaw increments carry a
+  // drift of 0.01 deg/s; the scan matches are noisier in yaw but unbiased; a loop closure
+  // joins each second-lap keyframe to the first lap's.
+  const double rate = 0.01 * 3.14159265358979 / 180.0;
+  const double dt = 4.0;
+  std::vector<SE2> truth{{0, 0, 0}};
+  const auto leg = [&](double length, int n) {
+    for (int k = 0; k < n; ++k) truth.push_back(truth.back() * SE2{length / n, 0, k + 1 == n ? 1.5707963267948966 : 0.0});
+  };
+  for (int lap = 0; lap < 2; ++lap) {
+    leg(40, 10);
+    leg(20, 5);
+    leg(40, 10);
+    leg(20, 5);
+  }
+  Rng rng(5);
+  std::vector<GraphEdge> edges;
+  std::vector<SE2> dr{truth[0]};
+  for (size_t k = 1; k < truth.size(); ++k) {
+    const SE2 step = truth[k - 1].inverse() * truth[k];
+    GraphEdge d{static_cast<int>(k - 1), static_cast<int>(k), step, {0.05, 0.05, 0.002}};
+    d.T_from_to.theta += rate * dt + rng.normal() * 0.0005;
+    d.dt_s = dt;
+    edges.push_back(d);
+    dr.push_back(dr.back() * d.T_from_to);
+    GraphEdge m{static_cast<int>(k - 1), static_cast<int>(k), step, {0.1, 0.1, 0.01}};
+    m.T_from_to.theta += rng.normal() * 0.005;
+    edges.push_back(m);
+  }
+  for (int k = 30; k < static_cast<int>(truth.size()); ++k) edges.push_back({k - 30, k, SE2{0, 0, 0}, {0.3, 0.3, 0.02}});
+  const auto heading_error = [&](const std::vector<SE2>& p) {
+    double worst = 0.0;
+    for (size_t k = 0; k < p.size(); ++k) worst = std::max(worst, std::abs(wrap_angle(p[k].theta - truth[k].theta)));
+    return worst;
+  };
+  auto plain = dr;
+  REQUIRE(solve_pose_graph(plain, truth[0], {0.01, 0.01, 0.001}, edges, {}).usable);
+  auto drifting = dr;
+  HeadingDrift drift{0.0, 0.05 * 3.14159265358979 / 180.0};
+  REQUIRE(solve_pose_graph(drifting, truth[0], {0.01, 0.01, 0.001}, edges, {}, &drift).usable);
+  INFO("rate " << drift.rate_rad_s << " (true " << rate << "), worst heading error plain "
+               << heading_error(plain) << " drifting " << heading_error(drifting));
+  CHECK(std::abs(drift.rate_rad_s - rate) < 0.2 * rate);
+  CHECK(heading_error(drifting) < 0.5 * heading_error(plain));
+  // The edges' dt is ignored without a drift prior: the plain solve again, bit for bit.
+  auto off = dr;
+  HeadingDrift none{0.0, 0.0};
+  REQUIRE(solve_pose_graph(off, truth[0], {0.01, 0.01, 0.001}, edges, {}, &none).usable);
+  CHECK(none.rate_rad_s == 0.0);
+  for (size_t k = 0; k < off.size(); ++k) CHECK(off[k].theta == plain[k].theta);
+}

@@ -263,6 +263,14 @@ Table root_table(RunConfig& c) {
                       {"sigma_icp", sigma(s.sigma_icp)},
                       {"sigma_loop", sigma(s.sigma_loop)},
                       {"degeneracy_ratio", real(s.degeneracy_ratio, 0.0, 1.0)},
+                      {"heading_drift_sigma_dps", real(s.heading_drift_sigma_dps, 0.0, 10.0)},
+                      {"heading_drift_every_keyframes", integer(s.heading_drift_every_keyframes, 0, 1000000)},
+                      {"solver", nested([&s] {
+                         auto& g = s.solver;
+                         return Table{{"max_iterations", integer(g.max_iterations, 1, 10000)},
+                                      {"function_tolerance", real(g.function_tolerance, 0.0, 1.0)},
+                                      {"initial_trust_region_radius", real(g.initial_trust_region_radius, 0.0, 1e16, true)}};
+                       })},
                       {"fit_information", nested([&s] {
                          auto& f = s.fit_information;
                          return Table{{"max_correspondence_m", real(f.max_correspondence_m, 0.0, 100.0, true)},
@@ -385,6 +393,11 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"sigma_icp", {s.sigma_icp.x(), s.sigma_icp.y(), s.sigma_icp.z()}},
                 {"sigma_loop", {s.sigma_loop.x(), s.sigma_loop.y(), s.sigma_loop.z()}},
                 {"degeneracy_ratio", s.degeneracy_ratio},
+                {"heading_drift_sigma_dps", s.heading_drift_sigma_dps},
+                {"heading_drift_every_keyframes", s.heading_drift_every_keyframes},
+                {"solver", {{"max_iterations", s.solver.max_iterations},
+                            {"function_tolerance", s.solver.function_tolerance},
+                            {"initial_trust_region_radius", s.solver.initial_trust_region_radius}}},
                 {"fit_information", {{"max_correspondence_m", s.fit_information.max_correspondence_m},
                                      {"normal_radius_m", s.fit_information.normal_radius_m},
                                      {"line_ratio", s.fit_information.line_ratio}}},

@@ -2,6 +2,7 @@
 // metrics.json, keyframes.csv, TUM trajectories, scene mesh, summary.json and digest.json.
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include "hal/sim/mesh_io.hpp"
 #include "orthosonar/version.hpp"
@@ -99,6 +100,9 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   summary["runtime"] = runtime_json(run.runtime);
   summary["ate_dr_m"] = opt_json(run.ate_dr_m);
   summary["ate_slam_m"] = opt_json(run.ate_slam_m);
+  if (run.pipeline->slam().config().heading_drift_sigma_dps > 0.0) {
+    summary["slam_heading_drift_dps"] = run.pipeline->slam().heading_drift_rad_s() * 180.0 / std::numbers::pi;
+  }
   summary["digest"] = run.digest.overall_hex;
   if (Status st = write_json(out / "summary.json", summary); !st.ok()) return st;
   return replay::write_digest_json((out / "digest.json").string(), run.digest);
