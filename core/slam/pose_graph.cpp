@@ -208,6 +208,22 @@ ceres::Solver::Options solver_options(const PoseGraphConfig& config) {
   return opt;
 }
 
+// Ends the solve after a successful step whose cost decrease the linear model predicted to
+// within `tolerance` (PoseGraphConfig::model_agreement_stop).
+class ModelAgreementStop final : public ceres::IterationCallback {
+ public:
+  explicit ModelAgreementStop(double tolerance) : tolerance_(tolerance) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (s.iteration > 0 && s.step_is_successful && std::abs(1.0 - s.relative_decrease) < tolerance_) {
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  double tolerance_;
+};
+
 ceres::Problem::Options problem_options() {
   ceres::Problem::Options popt;
   popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
@@ -253,8 +269,11 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
       problem.AddResidualBlock(new RelativePoseCost(drift_corrected(e, rate), e.sigma, e.mix), nullptr, a, b);
     }
   }
+  ceres::Solver::Options options = solver_options(config);
+  ModelAgreementStop stop(config.model_agreement_stop);
+  if (config.model_agreement_stop > 0.0) options.callbacks.push_back(&stop);
   ceres::Solver::Summary summary;
-  ceres::Solve(solver_options(config), &problem, &summary);
+  ceres::Solve(options, &problem, &summary);
   out = summarise(summary);
   if (out.usable && drifting) drift->rate_rad_s = rate;
   if (out.usable) {

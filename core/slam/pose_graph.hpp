@@ -24,6 +24,11 @@ struct PoseGraphConfig {
   // it at once. 1e8 re-solved a 1000-keyframe graph after a loop closure in 3 iterations
   // instead of 5 (docs/BENCHMARKS.md).
   double initial_trust_region_radius = 1e8;
+  // Stop after a step whose actual cost decrease matched the linearised model's prediction
+  // to within this fraction (|1 - rho| below it): the cost is locally quadratic there, so
+  // that step reached the optimum and a further one would only confirm it. Saves the
+  // confirming factorisation of a warm-started re-solve. 0: off (Ceres' tolerances alone).
+  double model_agreement_stop = 1e-2;  // measured: docs/BENCHMARKS.md
 };
 
 // A heading that drifts at a steady rate (a gyro's bias, the slow drift of an AHRS) makes

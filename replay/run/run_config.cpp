@@ -269,7 +269,8 @@ Table root_table(RunConfig& c) {
                          auto& g = s.solver;
                          return Table{{"max_iterations", integer(g.max_iterations, 1, 10000)},
                                       {"function_tolerance", real(g.function_tolerance, 0.0, 1.0)},
-                                      {"initial_trust_region_radius", real(g.initial_trust_region_radius, 0.0, 1e16, true)}};
+                                      {"initial_trust_region_radius", real(g.initial_trust_region_radius, 0.0, 1e16, true)},
+                                      {"model_agreement_stop", real(g.model_agreement_stop, 0.0, 1.0)}};
                        })},
                       {"fit_information", nested([&s] {
                          auto& f = s.fit_information;
@@ -397,7 +398,8 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"heading_drift_every_keyframes", s.heading_drift_every_keyframes},
                 {"solver", {{"max_iterations", s.solver.max_iterations},
                             {"function_tolerance", s.solver.function_tolerance},
-                            {"initial_trust_region_radius", s.solver.initial_trust_region_radius}}},
+                            {"initial_trust_region_radius", s.solver.initial_trust_region_radius},
+                            {"model_agreement_stop", s.solver.model_agreement_stop}}},
                 {"fit_information", {{"max_correspondence_m", s.fit_information.max_correspondence_m},
                                      {"normal_radius_m", s.fit_information.normal_radius_m},
                                      {"line_ratio", s.fit_information.line_ratio}}},
