@@ -146,9 +146,8 @@ void KeyframeSlam::sequential_match(int id) {
                    se2_from_se3(cur.T_W_V_dr);
   // DR's motion as the graph expects it (less the estimated heading drift): the ICP guess,
   // the gate, and the new pose's starting value. The factor keeps the measurement.
-  const double dt_s = (cur.stamp - keyframes_[static_cast<size_t>(prev)].stamp).seconds();
   SE2 T_dr_expected = T_dr;
-  T_dr_expected.theta -= heading_drift_rad_s_ * dt_s;
+  T_dr_expected.theta -= heading_drift_rad_s_ * seconds_between(prev, id);
   std::vector<int> targets;
   for (int k = std::max(0, id - config_.ssm_target_frames); k < id; ++k) targets.push_back(k);
   // Both clouds cropped to what the other side could have seen (initial guess = DR), so
@@ -306,7 +305,7 @@ void KeyframeSlam::solve(int leaf) {
     if (!f.accepted || f.kind == FactorKind::kPrior) continue;
     GraphEdge e{f.from, f.to, f.T_from_to, f.sigma, f.mix};
     if (drifting && f.kind == FactorKind::kOdometryDr) {
-      e.dt_s = (keyframes_[static_cast<size_t>(f.to)].stamp - keyframes_[static_cast<size_t>(f.from)].stamp).seconds();
+      e.dt_s = seconds_between(f.from, f.to);
     }
     edges.push_back(e);
   }

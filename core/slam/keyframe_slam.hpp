@@ -149,6 +149,10 @@ class KeyframeSlam {
   std::vector<Eigen::Vector2d> aggregate(const std::vector<int>& ids, int frame) const;
   // The whole graph (leaf < 0), or only keyframe `leaf` when nothing else can have moved.
   void solve(int leaf);
+  // Time from keyframe `from` to keyframe `to` (s): a DR factor's dt for the heading drift.
+  double seconds_between(int from, int to) const {
+    return (keyframes_[static_cast<size_t>(to)].stamp - keyframes_[static_cast<size_t>(from)].stamp).seconds();
+  }
   double gate_range_m() const { return config_.nssm_range_m + config_.gate_margin_m; }
   double gate_fov_deg() const { return config_.nssm_fov_deg + 2.0 * config_.gate_margin_deg; }
 

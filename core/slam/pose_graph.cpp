@@ -99,22 +99,27 @@ void drifting_pose_residual(const double* a, const double* b, const GraphEdge& e
 namespace {
 
 // The Ceres cost functions: thin wrappers over the residuals above.
+
+// Applies an edge's residual mixing (GraphEdge::mix) to the residual and to the Jacobian
+// blocks Ceres asked for: block k is 3 x cols[k], row-major.
+template <int N>
+void apply_mix(const Eigen::Matrix3d& mix, double* r, double** J, const std::array<int, N>& cols) {
+  Eigen::Map<Eigen::Vector3d> rv(r);
+  rv = (mix * rv).eval();
+  for (int k = 0; k < N && J != nullptr; ++k) {
+    if (J[k] == nullptr) continue;
+    Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> Jk(J[k], 3, cols[static_cast<size_t>(k)]);
+    Jk = (mix * Jk).eval();
+  }
+}
+
 class RelativePoseCost final : public ceres::SizedCostFunction<3, 3, 3> {
  public:
   RelativePoseCost(const SE2& z, const Eigen::Vector3d& sigma, const Eigen::Matrix3d& mix)
       : z_(z), sigma_(sigma), mix_(mix), mixed_(!mix.isIdentity(0.0)) {}
   bool Evaluate(double const* const* p, double* r, double** J) const override {
     relative_pose_residual(p[0], p[1], z_, sigma_, r, J ? J[0] : nullptr, J ? J[1] : nullptr);
-    if (mixed_) {
-      using Row3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-      Eigen::Map<Eigen::Vector3d> rv(r);
-      rv = (mix_ * rv).eval();
-      for (int k = 0; k < 2 && J != nullptr; ++k) {
-        if (J[k] == nullptr) continue;
-        Eigen::Map<Row3> Jk(J[k]);
-        Jk = (mix_ * Jk).eval();
-      }
-    }
+    if (mixed_) apply_mix<2>(mix_, r, J, {3, 3});
     return true;
   }
 
@@ -128,29 +133,17 @@ class RelativePoseCost final : public ceres::SizedCostFunction<3, 3, 3> {
 // A DR edge whose yaw drifts with the heading: the rate is the third parameter block.
 class DriftingPoseCost final : public ceres::SizedCostFunction<3, 3, 3, 1> {
  public:
-  explicit DriftingPoseCost(const GraphEdge& e) : e_(e) {}
+  explicit DriftingPoseCost(const GraphEdge& e) : e_(e), mixed_(!e.mix.isIdentity(0.0)) {}
   bool Evaluate(double const* const* p, double* r, double** J) const override {
     drifting_pose_residual(p[0], p[1], e_, p[2][0], r, J ? J[0] : nullptr, J ? J[1] : nullptr,
                            J ? J[2] : nullptr);
-    if (!e_.mix.isIdentity(0.0)) {
-      using Row3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-      Eigen::Map<Eigen::Vector3d> rv(r);
-      rv = (e_.mix * rv).eval();
-      for (int k = 0; k < 2 && J != nullptr; ++k) {
-        if (J[k] == nullptr) continue;
-        Eigen::Map<Row3> Jk(J[k]);
-        Jk = (e_.mix * Jk).eval();
-      }
-      if (J != nullptr && J[2] != nullptr) {
-        Eigen::Map<Eigen::Vector3d> Jr(J[2]);
-        Jr = (e_.mix * Jr).eval();
-      }
-    }
+    if (mixed_) apply_mix<3>(e_.mix, r, J, {3, 3, 1});
     return true;
   }
 
  private:
   GraphEdge e_;
+  bool mixed_;
 };
 
 // Zero-mean prior on the drift rate.
