@@ -33,7 +33,9 @@ struct SlamConfig {
   // Scan matching.
   IcpConfig icp;
   int ssm_target_frames = 3;
-  size_t ssm_min_points = 50;
+  // SPEC §5 says 50. 0.5 m voxels of a wreck, a row of pilings or a far wall are often
+  // 25-50 points, and a keyframe below the threshold falls back to DR (docs/SLAM.md).
+  size_t ssm_min_points = 25;
   double ssm_max_translation_m = 3.0;  // max ICP-vs-DR disagreement
   double ssm_max_rotation_deg = 30.0;
   // SPEC §5 adds the DR odometry factor only when ICP is rejected; true also keeps it beside
@@ -53,7 +55,7 @@ struct SlamConfig {
   // margins. Measured on the simulated harbor, widening made SSM worse (docs/SLAM.md).
   double gate_margin_deg = 0.0;
   double gate_margin_m = 0.0;
-  size_t nssm_min_points = 50;        // source and gated target points
+  size_t nssm_min_points = 25;        // source, gated target points and ICP inliers (as SSM's)
   int nssm_max_target_frames = 10;    // nearest candidate keyframes aggregated (bounds the cost)
   double nssm_max_rmse_m = 1.0;       // an ICP fit worse than this is not a candidate (PCM judges the rest)
   int pcm_queue = 5;

@@ -28,7 +28,7 @@ struct PoseGraphConfig {
   // to within this fraction (|1 - rho| below it): the cost is locally quadratic there, so
   // that step reached the optimum and a further one would only confirm it. Saves the
   // confirming factorisation of a warm-started re-solve. 0: off (Ceres' tolerances alone).
-  double model_agreement_stop = 1e-2;  // measured: docs/BENCHMARKS.md
+  double model_agreement_stop = 5e-2;  // measured: docs/BENCHMARKS.md
 };
 
 // A heading that drifts at a steady rate (a gyro's bias, the slow drift of an AHRS) makes
