@@ -253,9 +253,13 @@ void KeyframeSlam::loop_closure(int id) {
   } else if (icp.inliers < config_.nssm_min_points) {
     f.reason = "too few icp inliers";
   } else {
-    f.reason = "pcm pending";
-    shape(f, source, target);
-    pcm_queue_.push_back(static_cast<int>(factors_.size()));
+    shape(f, source, target);  // appends its weak directions to the reason
+    if (disagrees_with_chain(f)) {
+      f.reason = "loop disagrees with the odometry chain" + f.reason;
+    } else {
+      f.reason = "pcm pending" + f.reason;
+      pcm_queue_.push_back(static_cast<int>(factors_.size()));
+    }
   }
   factors_.push_back(std::move(f));
   while (static_cast<int>(pcm_queue_.size()) > config_.pcm_queue) {
@@ -264,6 +268,18 @@ void KeyframeSlam::loop_closure(int id) {
     pcm_queue_.erase(pcm_queue_.begin());
   }
   run_pcm();
+}
+
+bool KeyframeSlam::disagrees_with_chain(const Factor& loop) const {
+  if (config_.nssm_max_mahalanobis <= 0.0) return false;
+  // The loop against the graph's own estimate of the same relative pose, with the odometry
+  // chain's covariance: an ICP that converged to another local minimum metres or degrees
+  // away is rejected here even when several such loops agree with one another (PCM).
+  const UncertainSE2 chain = odometry_between(loop.from, loop.to);
+  const SE2 diff = chain.T.inverse() * loop.T_from_to;
+  const Eigen::Vector3d d(diff.x, diff.y, wrap_angle(diff.theta));
+  const Eigen::Matrix3d joint = chain.cov + loop.covariance();
+  return !(d.dot(joint.ldlt().solve(d)) <= config_.nssm_max_mahalanobis);
 }
 
 UncertainSE2 KeyframeSlam::odometry_between(int i, int j) const {

@@ -57,6 +57,10 @@ struct SlamConfig {
   double gate_margin_m = 0.0;
   size_t nssm_min_points = 25;        // source, gated target points and ICP inliers (as SSM's)
   int nssm_max_target_frames = 10;    // nearest candidate keyframes aggregated (bounds the cost)
+  // Addition (docs/SLAM.md): a loop candidate whose squared Mahalanobis distance from the
+  // graph's estimate of the same relative pose (joint covariance: the odometry chain between
+  // the two keyframes + the loop's own) exceeds this is not a candidate. 0 = off.
+  double nssm_max_mahalanobis = 30.0;
   double nssm_max_rmse_m = 1.0;       // an ICP fit worse than this is not a candidate (PCM judges the rest)
   int pcm_queue = 5;
   double pcm_threshold = 11.34;       // chi-square 0.99, 3 dof (squared Mahalanobis)
@@ -142,6 +146,7 @@ class KeyframeSlam {
   void sequential_match(int id);
   void loop_closure(int id);
   void run_pcm();
+  bool disagrees_with_chain(const Factor& loop) const;  // nssm_max_mahalanobis
   UncertainSE2 odometry_between(int i, int j) const;  // current estimate + chain covariance
   // The mix of a scan-match factor with these sigmas, from its fit (identity when off).
   void shape(Factor& f, const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target) const;

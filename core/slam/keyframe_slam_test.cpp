@@ -189,3 +189,59 @@ TEST_CASE("Synthetic basin, a steadily drifting DR heading: the graph estimates 
   CHECK(ate_drift < 0.5 * ate_plain);
   CHECK(ate_drift <= 0.25 * ate_dr);
 }
+
+TEST_CASE("Loop candidates that agree with one another but not with the odometry chain are rejected", "[unit]") {
+  // Five keyframes of the first lap whose scans were taken 2.5 m and 6 degrees away from
+  // where DR (nearly exact here) puts them: their loop matches against the lap so far agree
+  // with one another (PCM would accept the clique) but not with the odometry chain.
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
+  const auto dr = drifting_odometry(truth, 0.0, 0.0002, 0.01, 9);
+  const size_t first_bad = truth.size() / 4, last_bad = first_bad + 4;
+  const SE2 offset{2.0, 2.0, 0.1};
+  const auto fly = [&](const SlamConfig& config) {
+    KeyframeSlam slam(config);
+    for (size_t i = 0; i < truth.size(); ++i) {
+      const bool bad = i >= first_bad && i <= last_bad;
+      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]),
+                        synthetic_scan_V(world, bad ? truth[i] * offset : truth[i], {}, 1, i));
+      REQUIRE(slam.last_solve().usable);
+    }
+    return slam;
+  };
+  const auto loops_into_bad = [&](const KeyframeSlam& slam, bool accepted) {
+    int n = 0;
+    for (const auto& f : slam.factors()) {
+      n += f.kind == FactorKind::kLoopClosure && f.accepted == accepted && f.to >= static_cast<int>(first_bad) &&
+           f.to <= static_cast<int>(last_bad);
+    }
+    return n;
+  };
+  SlamConfig off;
+  off.nssm_max_mahalanobis = 0.0;
+  const KeyframeSlam without = fly(off);
+  // The gate at χ²(0.99, 3) rather than the default 30: with the default loop sigma of
+  // 0.5 m the default tolerates about 2.7 m, and an ICP started from DR does not converge
+  // to a scan misplaced by much more than that in this basin.
+  SlamConfig gated;
+  gated.nssm_max_mahalanobis = 11.34;
+  const KeyframeSlam with = fly(gated);
+  int rejected = 0;
+  for (const auto& f : with.factors()) rejected += f.reason.rfind("loop disagrees with the odometry chain", 0) == 0;
+  std::vector<Vec3> p_truth, p_without, p_with;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    p_truth.push_back(se3(truth[i]).translation());
+    p_without.push_back(without.keyframes()[i].T_W_V_slam.translation());
+    p_with.push_back(with.keyframes()[i].T_W_V_slam.translation());
+  }
+  const double ate_without = ate_rmse(p_without, p_truth), ate_with = ate_rmse(p_with, p_truth);
+  INFO("accepted loops into the misplaced keyframes: without the gate " << loops_into_bad(without, true)
+       << ", with it " << loops_into_bad(with, true) << "; rejected by the gate " << rejected << "; ATE "
+       << ate_without << " -> " << ate_with << "; loops accepted " << without.accepted_loop_closures() << " -> "
+       << with.accepted_loop_closures());
+  CHECK(loops_into_bad(without, true) >= 2);
+  CHECK(loops_into_bad(with, true) == 0);
+  CHECK(rejected >= 2);
+  CHECK(with.accepted_loop_closures() >= 1);  // the honest loops still close
+  CHECK(ate_with <= ate_without + 0.02);  // near-exact DR here: the gate changes little else
+}

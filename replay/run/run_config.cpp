@@ -263,6 +263,7 @@ Table root_table(RunConfig& c) {
                       {"sigma_icp", sigma(s.sigma_icp)},
                       {"sigma_loop", sigma(s.sigma_loop)},
                       {"degeneracy_ratio", real(s.degeneracy_ratio, 0.0, 1.0)},
+                      {"nssm_max_mahalanobis", real(s.nssm_max_mahalanobis, 0.0, 1e12)},
                       {"heading_drift_sigma_dps", real(s.heading_drift_sigma_dps, 0.0, 10.0)},
                       {"heading_drift_every_keyframes", integer(s.heading_drift_every_keyframes, 0, 1000000)},
                       {"solver", nested([&s] {
@@ -394,6 +395,7 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"sigma_icp", {s.sigma_icp.x(), s.sigma_icp.y(), s.sigma_icp.z()}},
                 {"sigma_loop", {s.sigma_loop.x(), s.sigma_loop.y(), s.sigma_loop.z()}},
                 {"degeneracy_ratio", s.degeneracy_ratio},
+                {"nssm_max_mahalanobis", s.nssm_max_mahalanobis},
                 {"heading_drift_sigma_dps", s.heading_drift_sigma_dps},
                 {"heading_drift_every_keyframes", s.heading_drift_every_keyframes},
                 {"solver", {{"max_iterations", s.solver.max_iterations},
