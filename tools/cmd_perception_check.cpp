@@ -14,7 +14,8 @@
 // --real-ping decodes a raw Oculus SimplePingResult (hal/drivers) and prints its label-free
 // figures beside the profiles. --fixture measures a recorded, labelled fixture's images as
 // recorded (its own profile, its embedded scene and truth poses). --json writes every figure
-// (deterministic: no timings). It is the harness behind the perception numbers in
+// (deterministic: no timings). --cloud writes the true-pose fused points with their mesh
+// distance, range, bearing, elevation and confidence (PLY). It is the harness behind the perception numbers in
 // docs/PERCEPTION.md.
 #include <algorithm>
 #include <cerrno>
@@ -40,6 +41,7 @@
 #include "core/result.hpp"
 #include "hal/drivers/oculus_protocol.hpp"
 #include "hal/drivers/oculus_stream.hpp"
+#include "hal/sim/mesh_io.hpp"
 #include "hal/sim/scene.hpp"
 #include "hal/sim/simulator.hpp"
 #include "replay/fixture.hpp"
@@ -65,7 +67,8 @@ struct CheckArgs {
   std::string resolution = "full";
   std::string sim_config;
   std::string run_config;
-  int every = 1;  // fuse every n-th pair
+  std::string cloud_path;  // --cloud: the true-pose fused points with their mesh distance
+  int every = 1;           // fuse every n-th pair
 };
 
 int fail(const std::string& msg) {
@@ -205,6 +208,13 @@ void tally_image(const SonarPing& ping, const std::vector<uint8_t>& semantic, co
 struct FusionTally {
   size_t pairs = 0, fused = 0, subproblems = 0, matches = 0, culled = 0;
   std::vector<double> err;  // distance of each fused point to the mesh, true pose
+  bool keep_points = false;  // --cloud: keep each point's fields below, in err's order
+  struct Point {
+    Eigen::Vector3f p_W;  // true-pose world position
+    float range_m, bearing_rad, elevation_rad, confidence;
+    double stamp_s;
+  };
+  std::vector<Point> points;
 };
 
 // What one profile (or one fixture) measured.
@@ -239,6 +249,34 @@ FusionFigures fusion_figures(const std::vector<double>& err) {
   const double n = static_cast<double>(err.size());
   if (err.empty()) return {std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan("")};
   return {quantile(err, 0.5), quantile(err, 0.9), mae / n, std::sqrt(sq / n), static_cast<double>(within) / n};
+}
+
+// --cloud: the true-pose fused points as a PLY (hal/sim's point writer), one vertex per
+// point with its distance to the mesh and the fusion's range, bearing, elevation and
+// confidence, so a user can see where on a structure the fused points leave the surface.
+Status write_cloud(const std::string& path, const FusionTally& f) {
+  std::vector<Eigen::Vector3f> xyz;
+  std::vector<sim::PlyScalar> scalars = {{"distance_m", {}}, {"range_m", {}},      {"bearing_deg", {}},
+                                         {"elevation_deg", {}}, {"confidence", {}}, {"stamp_s", {}}};
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  for (size_t i = 0; i < f.points.size(); ++i) {
+    const FusionTally::Point& p = f.points[i];
+    xyz.push_back(p.p_W);
+    const double values[] = {f.err[i], p.range_m, p.bearing_rad * kDeg, p.elevation_rad * kDeg, p.confidence, p.stamp_s};
+    for (size_t k = 0; k < scalars.size(); ++k) scalars[k].values.push_back(static_cast<float>(values[k]));
+  }
+  return sim::write_ply_points(xyz, scalars, "orthosonar perception-check: fused points placed with the true pose",
+                               path);
+}
+
+// The --cloud file of one measured profile: the path itself when one profile was measured,
+// else "<stem>_<label><ext>".
+std::string cloud_path_for(const std::string& path, const std::string& label, size_t n_results) {
+  if (n_results <= 1) return path;
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path + "_" + label;
+  return path.substr(0, dot) + "_" + label + path.substr(dot);
 }
 
 // Replays `src` (simulator or fixture): pairs h and v pings, fuses every n-th pair with
@@ -283,7 +321,13 @@ Status measure(hal::EventSource& src, const perception::FusionConfig& cfg, const
       tally_image(h, lh->second, r.detections_h, overlap, out.h);
       tally_image(v, lv->second, r.detections_v, overlap, out.v);
       if (const auto T_W_V = pose_at(h.stamp))
-        for (const perception::FusedPoint& p : r.points) f.err.push_back(dist.distance(*T_W_V * p.p_V.cast<double>()));
+        for (const perception::FusedPoint& p : r.points) {
+          const Eigen::Vector3d p_W = *T_W_V * p.p_V.cast<double>();
+          f.err.push_back(dist.distance(p_W));
+          if (f.keep_points)
+            f.points.push_back({p_W.cast<float>(), p.range_m, p.bearing_rad, p.elevation_rad, p.confidence,
+                                h.stamp.seconds()});
+        }
     }
     labels.erase(labels.begin(), labels.upper_bound({0, h.ping_id}));
     labels.erase(labels.lower_bound({1, 0}), labels.upper_bound({1, v.ping_id}));
@@ -517,6 +561,7 @@ int run_check(const CheckArgs& a) {
     m.profile = get("profile").empty() ? "unknown" : get("profile");
     m.label = "fixture";
     m.heading = "fixture " + a.fixture + " (profile " + m.profile + ", as recorded)";
+    m.fusion.keep_points = !a.cloud_path.empty();
     if (Status s = measure(**src, cfg, scene->mesh, a.every, a.fixture, m); !s) return fail(s.error().message);
     std::printf("perception-check: fixture %s: scene %s, %s resolution, 1 pair in %d fused\n", a.fixture.c_str(),
                 scene->name.c_str(), get("resolution").c_str(), a.every);
@@ -563,6 +608,7 @@ int run_check(const CheckArgs& a) {
       m.heading = std::string("profile ") + m.label;
       m.profile = sim::profile_name(sc.profile);
       if (sc.profile != profile) m.note = "(the sim config sets profile: " + m.profile + ")";
+      m.fusion.keep_points = !a.cloud_path.empty();
       sim::Scene copy = *scene;
       const TriangleMesh mesh = copy.mesh;
       sim::Simulator simulator(std::move(copy), sc);
@@ -572,6 +618,13 @@ int run_check(const CheckArgs& a) {
   }
 
   for (const Measured& m : results) print_measured(m);
+  if (!a.cloud_path.empty())
+    for (const Measured& m : results) {
+      const std::string path = cloud_path_for(a.cloud_path, m.label, results.size());
+      if (Status s = write_cloud(path, m.fusion); !s) return fail(s.error().message);
+      std::printf("  wrote %zu true-pose fused points with their mesh distance -> %s\n", m.fusion.points.size(),
+                  path.c_str());
+    }
   std::printf("== label-free (no labels needed: comparable between simulated and real images)\n");
   std::printf("  8-bit intensity of all pixels; >gate: share above the CFAR gate; Otsu's threshold splits the\n"
               "  pooled histogram into dark (<= threshold) and bright pixels (share, p50 of each)\n");
@@ -627,6 +680,8 @@ const bool registered = register_command(
        sub.add_option("--real-ping", a->real_pings,
                       "Raw Oculus SimplePingResult to compare with (label-free figures); repeatable");
        sub.add_option("--json", a->json_path, "Write every figure as JSON");
+       sub.add_option("--cloud", a->cloud_path,
+                      "Write the true-pose fused points with their mesh distance (PLY; one file per profile)");
        auto* duration = sub.add_option("--duration", a->duration_s, "Mission length, seconds")->capture_default_str();
        auto* seed = sub.add_option("--seed", a->seed, "Noise seed")->capture_default_str();
        auto* res = sub.add_option("--resolution", a->resolution, "full or reduced")->capture_default_str();

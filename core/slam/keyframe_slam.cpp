@@ -57,6 +57,7 @@ const char* factor_kind_name(FactorKind k) {
     case FactorKind::kOdometryDr: return "odometry_dr";
     case FactorKind::kSequentialIcp: return "ssm_icp";
     case FactorKind::kLoopClosure: return "loop_closure";
+    case FactorKind::kHeadingLink: return "heading_link";
   }
   return "unknown";
 }
@@ -104,12 +105,30 @@ int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
     sequential_match(id);
     loop_closure(id);
   }
+  const bool linked = id > 0 && link_heading(id);
   // No loop closure joined the graph: the new keyframe hangs off the previous one alone,
   // and the optimum of the rest is the one already solved (solve_leaf_pose).
   const bool drift_update = config_.heading_drift_sigma_dps > 0.0 && config_.heading_drift_every_keyframes > 0 &&
                             id % config_.heading_drift_every_keyframes == 0;
-  solve(id > 0 && accepted_loop_closures() == loops_before && !drift_update ? id : -1);
+  solve(id > 0 && accepted_loop_closures() == loops_before && !drift_update && !linked ? id : -1);
   return id;
+}
+
+bool KeyframeSlam::link_heading(int id) {
+  if (config_.heading_link_s <= 0.0) return false;
+  const int from = heading_link_anchor_;
+  const double dt = seconds_between(from, id);
+  if (dt < config_.heading_link_s) return false;
+  heading_link_anchor_ = id;
+  const SE2 a = se2_from_se3(keyframes_[static_cast<size_t>(from)].T_W_V_dr);
+  const SE2 b = se2_from_se3(keyframes_[static_cast<size_t>(id)].T_W_V_dr);
+  const double walk = config_.heading_link_walk_dps * kDegToRad, white = config_.heading_link_white_deg * kDegToRad;
+  Factor f{FactorKind::kHeadingLink, from, id, a.inverse() * b, {1.0, 1.0, std::sqrt(walk * walk * dt + 2.0 * white * white)},
+           true, "heading link over " + std::to_string(static_cast<int>(std::lround(dt))) + " s"};
+  f.mix = Eigen::Vector3d(0.0, 0.0, 1.0).asDiagonal();  // yaw only: x and y carry no residual
+  f.weakened = 2;
+  factors_.push_back(std::move(f));
+  return true;
 }
 
 std::vector<Eigen::Vector2d> KeyframeSlam::aggregate(const std::vector<int>& ids, int frame) const {
@@ -320,7 +339,7 @@ void KeyframeSlam::solve(int leaf) {
   for (const Factor& f : factors_) {
     if (!f.accepted || f.kind == FactorKind::kPrior) continue;
     GraphEdge e{f.from, f.to, f.T_from_to, f.sigma, f.mix};
-    if (drifting && f.kind == FactorKind::kOdometryDr) {
+    if (drifting && (f.kind == FactorKind::kOdometryDr || f.kind == FactorKind::kHeadingLink)) {
       e.dt_s = seconds_between(f.from, f.to);
     }
     edges.push_back(e);

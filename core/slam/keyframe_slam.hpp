@@ -91,12 +91,22 @@ struct SlamConfig {
   // keyframes when no loop closure has, so a drift is taken out before the first loop
   // closes (0 = only at loop closures).
   int heading_drift_every_keyframes = 0;
+  // Addition (docs/SLAM.md "Heading links"): the DR heading is the AHRS's, whose error is a
+  // slow random walk, not white noise per keyframe. Every heading_link_s seconds of keyframe
+  // time, a yaw-only factor joins the new keyframe to the last one linked: their DR yaw
+  // difference, sigma² = walk² × dt + 2 × white² (walk in deg/√s, white in deg), and the
+  // whole graph is re-solved. The odometry factors alone let a chain of biased one-sided
+  // scan matches turn the heading by degrees in a minute the AHRS turns by tenths. 0 = off.
+  double heading_link_s = 0.0;
+  double heading_link_walk_dps = 0.05;   // deg/√s
+  double heading_link_white_deg = 0.2;   // deg
   FitInformationConfig fit_information;
   PoseGraphConfig solver;
 };
 
-enum class FactorKind { kPrior, kOdometryDr, kSequentialIcp, kLoopClosure };
-const char* factor_kind_name(FactorKind k);  // "prior", "odometry_dr", "ssm_icp", "loop_closure"
+enum class FactorKind { kPrior, kOdometryDr, kSequentialIcp, kLoopClosure, kHeadingLink };
+// "prior", "odometry_dr", "ssm_icp", "loop_closure", "heading_link"
+const char* factor_kind_name(FactorKind k);
 
 struct Factor {
   FactorKind kind = FactorKind::kPrior;
@@ -156,6 +166,8 @@ class KeyframeSlam {
   std::vector<Eigen::Vector2d> aggregate(const std::vector<int>& ids, int frame) const;
   // The whole graph (leaf < 0), or only keyframe `leaf` when nothing else can have moved.
   void solve(int leaf);
+  // Adds the heading link (heading_link_s) that keyframe `id` is due, if any; true if added.
+  bool link_heading(int id);
   // Time from keyframe `from` to keyframe `to` (s): a DR factor's dt for the heading drift.
   double seconds_between(int from, int to) const {
     return (keyframes_[static_cast<size_t>(to)].stamp - keyframes_[static_cast<size_t>(from)].stamp).seconds();
@@ -175,6 +187,7 @@ class KeyframeSlam {
   std::vector<int> pcm_queue_;             // factor indices of the last loop candidates
   PoseGraphSummary last_solve_;
   double heading_drift_rad_s_ = 0.0;
+  int heading_link_anchor_ = 0;            // the keyframe the next heading link starts from
 };
 
 }  // namespace orthosonar::slam

@@ -1,7 +1,9 @@
 #include "core/slam/keyframe_slam.hpp"
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/random.hpp"
 #include "core/slam/dead_reckoning.hpp"
@@ -244,4 +246,50 @@ TEST_CASE("Loop candidates that agree with one another but not with the odometry
   CHECK(rejected >= 2);
   CHECK(with.accepted_loop_closures() >= 1);  // the honest loops still close
   CHECK(ate_with <= ate_without + 0.02);  // near-exact DR here: the gate changes little else
+}
+
+TEST_CASE("Heading links hold a chain of heading-biased scan matches to the DR heading", "[unit]") {
+  // Scans taken as if the vehicle turned 0.5 deg more per keyframe than it did (a biased
+  // one-sided match, docs/SLAM.md "Heading links"); DR's heading nearly exact; no loop
+  // closures (min_pcm out of reach), so only the odometry chain and the links decide.
+  const auto world = make_basin_world(5);
+  auto truth = loop_route(30.0, 20.0, 2.0, 1);
+  truth.resize(40);
+  const auto dr = drifting_odometry(truth, 0.0, 0.0002, 0.01, 9);
+  const double bias = 0.5 * std::numbers::pi / 180.0;
+  const auto fly = [&](const SlamConfig& config) {
+    KeyframeSlam slam(config);
+    for (size_t i = 0; i < truth.size(); ++i) {
+      const SE2 seen = truth[i] * SE2{0.0, 0.0, bias * static_cast<double>(i)};
+      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, seen, {}, 1, i));
+      REQUIRE(slam.last_solve().usable);
+    }
+    return slam;
+  };
+  const auto worst_heading_error = [&](const KeyframeSlam& slam) {
+    double worst = 0.0;
+    for (size_t i = 0; i < truth.size(); ++i)
+      worst = std::max(worst, std::abs(wrap_angle(se2_from_se3(slam.keyframes()[i].T_W_V_slam).theta - truth[i].theta)));
+    return worst;
+  };
+  SlamConfig off;
+  off.min_pcm = 1000;
+  SlamConfig linked = off;
+  linked.heading_link_s = 10.0;
+  const KeyframeSlam without = fly(off), with = fly(linked);
+  int links = 0;
+  for (const auto& f : with.factors()) {
+    if (f.kind != FactorKind::kHeadingLink) continue;
+    ++links;
+    CHECK(f.accepted);
+    CHECK(f.to - f.from == 10);  // one link per 10 s of keyframe time, chained
+    CHECK(f.mix.topRows<2>().isZero());  // yaw only
+  }
+  for (const auto& f : without.factors()) CHECK(f.kind != FactorKind::kHeadingLink);
+  const double e_without = worst_heading_error(without), e_with = worst_heading_error(with);
+  INFO("worst SLAM heading error without links " << e_without * 180.0 / std::numbers::pi << " deg, with "
+       << e_with * 180.0 / std::numbers::pi << " deg; links " << links);
+  CHECK(links == 3);
+  CHECK(e_without > 1.0 * std::numbers::pi / 180.0);  // the biased chain turns SLAM by 1.5 deg
+  CHECK(e_with < 0.5 * e_without);
 }

@@ -44,6 +44,14 @@ Status write_mesh_stl(const TriangleMesh& mesh, const std::string& path, bool bi
 // A point cloud as PLY (map.ply): binary little-endian, one vertex element with float
 // x y z and nothing else. Deterministic bytes for a given cloud.
 Status write_ply_points(const std::vector<Eigen::Vector3f>& points, const std::string& path);
+// The same with per-point float properties after x y z (e.g. a distance to a mesh), one
+// value per point each, and a header comment. An Error if a property's count or name is bad.
+struct PlyScalar {
+  std::string name;           // [A-Za-z0-9_]+, not x, y or z
+  std::vector<float> values;  // one per point
+};
+Status write_ply_points(const std::vector<Eigen::Vector3f>& points, const std::vector<PlyScalar>& scalars,
+                        const std::string& comment, const std::string& path);
 // The vertex positions of any PLY file (extra vertex properties and other elements are
 // read and skipped) through the same parser as read_mesh_ply.
 Result<std::vector<Eigen::Vector3f>> read_ply_points(const std::string& path);

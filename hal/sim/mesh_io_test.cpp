@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <cstring>
 
 #include <algorithm>
 #include <cstdint>
@@ -128,6 +129,34 @@ TEST_CASE("PLY points round trip exactly, empty too, and keep the map.ply bytes"
   auto empty = read_ply_points(out_dir() + "/empty.ply");
   REQUIRE(empty.ok());
   CHECK(empty->empty());
+}
+
+TEST_CASE("PLY points carry named float properties after x y z; bad names and counts are errors", "[hal]") {
+  const std::vector<Eigen::Vector3f> pts = {{1, 2, 3}, {-0.5f, 0.25f, 7}};
+  const std::string path = out_dir() + "/points_scalars.ply";
+  REQUIRE(write_ply_points(pts, {{"distance_m", {0.5f, 2.0f}}, {"range_m", {10.0f, 20.5f}}}, "a cloud", path).ok());
+  const std::string bytes = read_bytes(path);
+  const std::string header = "ply\nformat binary_little_endian 1.0\ncomment a cloud\nelement vertex 2\n"
+                             "property float x\nproperty float y\nproperty float z\nproperty float distance_m\n"
+                             "property float range_m\nend_header\n";
+  REQUIRE(bytes.starts_with(header));
+  REQUIRE(bytes.size() == header.size() + 2 * 5 * 4);
+  float second_range = 0;
+  std::memcpy(&second_range, bytes.data() + header.size() + 5 * 4 + 4 * 4, 4);
+  CHECK(second_range == 20.5f);
+  auto back = read_ply_points(path);  // the reader skips the extra properties
+  REQUIRE(back.ok());
+  CHECK(*back == pts);
+  auto short_values = write_ply_points(pts, {{"distance_m", {0.5f}}}, "c", out_dir() + "/bad1.ply");
+  REQUIRE_FALSE(short_values.ok());
+  CHECK(mentions(short_values.error(), "bad1.ply", "'distance_m' has 1 values for 2 points"));
+  auto bad_name = write_ply_points(pts, {{"dist ance", {0.5f, 1.0f}}}, "c", out_dir() + "/bad2.ply");
+  REQUIRE_FALSE(bad_name.ok());
+  CHECK(mentions(bad_name.error(), "bad2.ply", "bad vertex property name 'dist ance'"));
+  auto clash = write_ply_points(pts, {{"x", {0.5f, 1.0f}}}, "c", out_dir() + "/bad3.ply");
+  CHECK_FALSE(clash.ok());
+  auto two_lines = write_ply_points(pts, {}, "a\nb", out_dir() + "/bad4.ply");
+  CHECK_FALSE(two_lines.ok());
 }
 
 TEST_CASE("PLY bytes in memory are the file's bytes and decode the same way", "[hal]") {

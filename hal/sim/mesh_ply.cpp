@@ -4,6 +4,7 @@
 // bounded the same way, so reserve() below never sees an unchecked count.
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <charconv>
 #include <climits>
 #include <cstdio>
@@ -236,11 +237,32 @@ Status write_mesh_ply(const TriangleMesh& mesh, const std::string& path) {
 }
 
 Status write_ply_points(const std::vector<Eigen::Vector3f>& points, const std::string& path) {
-  const std::string header = "ply\nformat binary_little_endian 1.0\ncomment orthosonar map\nelement vertex " +
-                             std::to_string(points.size()) + "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  return write_ply_points(points, {}, "orthosonar map", path);
+}
+
+Status write_ply_points(const std::vector<Eigen::Vector3f>& points, const std::vector<PlyScalar>& scalars,
+                        const std::string& comment, const std::string& path) {
+  std::string header = "ply\nformat binary_little_endian 1.0\ncomment " + comment + "\nelement vertex " +
+                       std::to_string(points.size()) + "\nproperty float x\nproperty float y\nproperty float z\n";
+  for (const PlyScalar& s : scalars) {
+    const bool named = !s.name.empty() && std::all_of(s.name.begin(), s.name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+    });
+    if (!named || s.name == "x" || s.name == "y" || s.name == "z")
+      return Error{path + ": bad vertex property name '" + s.name + "'"};
+    if (s.values.size() != points.size())
+      return Error{path + ": property '" + s.name + "' has " + std::to_string(s.values.size()) + " values for " +
+                   std::to_string(points.size()) + " points"};
+    header += "property float " + s.name + "\n";
+  }
+  if (comment.find('\n') != std::string::npos) return Error{path + ": a header comment cannot hold a line break"};
+  header += "end_header\n";
   std::vector<char> buf;
-  buf.reserve(points.size() * 12);
-  for (const auto& p : points) put(buf, p.data(), 12);
+  buf.reserve(points.size() * (12 + 4 * scalars.size()));
+  for (size_t i = 0; i < points.size(); ++i) {
+    put(buf, points[i].data(), 12);
+    for (const PlyScalar& s : scalars) put(buf, &s.values[i], 4);
+  }
   return write_file(path, header, buf);
 }
 

@@ -266,6 +266,9 @@ Table root_table(RunConfig& c) {
                       {"nssm_max_mahalanobis", real(s.nssm_max_mahalanobis, 0.0, 1e12)},
                       {"heading_drift_sigma_dps", real(s.heading_drift_sigma_dps, 0.0, 10.0)},
                       {"heading_drift_every_keyframes", integer(s.heading_drift_every_keyframes, 0, 1000000)},
+                      {"heading_link_s", real(s.heading_link_s, 0.0, 1e6)},
+                      {"heading_link_walk_dps", real(s.heading_link_walk_dps, 0.0, 10.0, true)},
+                      {"heading_link_white_deg", real(s.heading_link_white_deg, 0.0, 10.0)},
                       {"solver", nested([&s] {
                          auto& g = s.solver;
                          return Table{{"max_iterations", integer(g.max_iterations, 1, 10000)},
@@ -398,6 +401,9 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"nssm_max_mahalanobis", s.nssm_max_mahalanobis},
                 {"heading_drift_sigma_dps", s.heading_drift_sigma_dps},
                 {"heading_drift_every_keyframes", s.heading_drift_every_keyframes},
+                {"heading_link_s", s.heading_link_s},
+                {"heading_link_walk_dps", s.heading_link_walk_dps},
+                {"heading_link_white_deg", s.heading_link_white_deg},
                 {"solver", {{"max_iterations", s.solver.max_iterations},
                             {"function_tolerance", s.solver.function_tolerance},
                             {"initial_trust_region_radius", s.solver.initial_trust_region_radius},

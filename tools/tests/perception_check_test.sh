@@ -4,6 +4,8 @@
 #     beams and mean intensity 55.86 (testdata/oculus/README.md); the clean profile's water
 #     p99 is below the field's on the vertical sonar and its h water p50 above the field's; the JSON is the same bytes on a second run;
 #  2. --fixture on a labelled fixture measures it as recorded (its profile, embedded scene);
+#     --cloud writes its true-pose fused points: as many as the JSON counts, their mean
+#     distance_m the JSON's MAE; an unwritable --cloud path exits 2 naming it;
 #  3. a fixture without labels, a bad --real-ping path, a bad --profile and an unknown scene
 #     exit 2 with a message naming the culprit.
 # Usage: perception_check_test.sh ORTHOSONAR SOURCE_DIR WORK_DIR
@@ -66,6 +68,32 @@ test "$(jsonq f.json 'd["profiles"][0]["profile"]')" = field || fail "fixture pr
 # Same images as the simulated field run: the same label-based figures.
 test "$(jsonq f.json 'd["profiles"][0]["mounts"]')" = "$(jsonq a.json 'd["profiles"][0]["mounts"]')" ||
   fail "fixture figures differ from the simulated field profile's"
+# The breakwater example: its first seconds see the sloped arm (the harbor's see nothing to fuse).
+"$exe" simulate --scene-file "$src/docs/examples/breakwater/breakwater.yaml" --labels --resolution reduced \
+  --duration 10 -q -o bw.mcap || fail "simulate breakwater failed"
+"$exe" perception-check --fixture bw.mcap --every 2 --json c.json --cloud c.ply >c.txt 2>c.err ||
+  fail "--cloud exited $?: $(cat c.err)"
+grep -q "with their mesh distance -> c.ply" c.txt || fail "--cloud line: $(tail -3 c.txt)"
+/usr/bin/python3 - c.ply c.json <<'PY' || fail "--cloud file does not match the JSON figures"
+import json, struct, sys
+data = open(sys.argv[1], "rb").read()
+end = data.index(b"end_header\n") + len(b"end_header\n")
+head = data[:end].decode().splitlines()
+assert head[1] == "format binary_little_endian 1.0", head[1]
+n = int(next(l for l in head if l.startswith("element vertex")).split()[2])
+props = [l.split()[2] for l in head if l.startswith("property float")]
+assert props[:4] == ["x", "y", "z", "distance_m"], props
+rows = list(struct.iter_unpack("<%df" % len(props), data[end:]))
+fusion = json.load(open(sys.argv[2]))["profiles"][0]["fusion"]
+assert n == len(rows) == fusion["points"] > 0, (n, len(rows), fusion["points"])
+mae = sum(r[3] for r in rows) / n
+assert abs(mae - fusion["distance_to_mesh_m"]["mae"]) < 1e-4, (mae, fusion["distance_to_mesh_m"]["mae"])
+PY
+set +e
+"$exe" perception-check --fixture bw.mcap --every 2 --cloud no/such/dir/c.ply >/dev/null 2>c2.err; rc=$?
+set -e
+test $rc = 2 || fail "unwritable --cloud: exit $rc, expected 2"
+grep -q "no/such/dir/c.ply" c2.err || fail "unwritable --cloud message: $(cat c2.err)"
 
 echo "== 3. errors exit 2 naming the culprit"
 "$exe" simulate --scene harbor --resolution reduced --duration 6 -q -o unlabelled.mcap || fail "simulate failed"
