@@ -15,6 +15,9 @@ Eigen::Matrix3d covariance(const Eigen::Vector3d& sigma) {
   return sigma.cwiseProduct(sigma).asDiagonal();
 }
 
+// dᵀ cov⁻¹ d: the gates of scan matches against DR and of loops against the chain.
+double squared_mahalanobis(const Eigen::Vector3d& d, const Eigen::Matrix3d& cov) { return d.dot(cov.ldlt().solve(d)); }
+
 }  // namespace
 
 Eigen::Matrix3d Factor::information() const {
@@ -190,7 +193,7 @@ void KeyframeSlam::sequential_match(int id) {
       // the fit does not observe carry a large ICP variance, so they are not judged.
       const Eigen::Matrix3d joint = covariance(config_.sigma_odometry) + m.covariance();
       const Eigen::Vector3d d(diff.x, diff.y, diff.theta);
-      close = d.dot(joint.ldlt().solve(d)) <= config_.ssm_max_mahalanobis;
+      close = squared_mahalanobis(d, joint) <= config_.ssm_max_mahalanobis;
     }
     if (icp.converged && close) {
       m.accepted = true;
@@ -298,7 +301,7 @@ bool KeyframeSlam::disagrees_with_chain(const Factor& loop) const {
   const SE2 diff = chain.T.inverse() * loop.T_from_to;
   const Eigen::Vector3d d(diff.x, diff.y, wrap_angle(diff.theta));
   const Eigen::Matrix3d joint = chain.cov + loop.covariance();
-  return !(d.dot(joint.ldlt().solve(d)) <= config_.nssm_max_mahalanobis);
+  return !(squared_mahalanobis(d, joint) <= config_.nssm_max_mahalanobis);
 }
 
 UncertainSE2 KeyframeSlam::odometry_between(int i, int j) const {
@@ -336,11 +339,21 @@ void KeyframeSlam::run_pcm() {
 void KeyframeSlam::solve(int leaf) {
   std::vector<GraphEdge> edges;
   const bool drifting = config_.heading_drift_sigma_dps > 0.0;
-  for (const Factor& f : factors_) {
+  std::vector<size_t> loops;  // factor index of each loop edge in `edges`, in order
+  for (size_t i = 0; i < factors_.size(); ++i) {
+    Factor& f = factors_[i];
     if (!f.accepted || f.kind == FactorKind::kPrior) continue;
     GraphEdge e{f.from, f.to, f.T_from_to, f.sigma, f.mix};
     if (drifting && (f.kind == FactorKind::kOdometryDr || f.kind == FactorKind::kHeadingLink)) {
       e.dt_s = seconds_between(f.from, f.to);
+    }
+    if (f.kind == FactorKind::kLoopClosure && config_.loop_loss != GraphEdge::Loss::kNone) {
+      // One IRLS step per full solve: the weight at the previous optimum (the warm start).
+      if (leaf < 0 && f.solved)
+        f.robust_weight = robust_weight(config_.loop_loss, config_.loop_loss_scale,
+                                        edge_whitened_norm(poses_, e, heading_drift_rad_s_));
+      e.mix *= std::sqrt(f.robust_weight);
+      if (leaf < 0) loops.push_back(i);
     }
     edges.push_back(e);
   }
@@ -352,6 +365,7 @@ void KeyframeSlam::solve(int leaf) {
     last_solve_ = solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior, edges,
                                    config_.solver, &drift);
     heading_drift_rad_s_ = drift.rate_rad_s;
+    for (size_t i : loops) factors_[i].solved = true;
   }
   for (size_t k = leaf >= 0 ? static_cast<size_t>(leaf) : 0; k < keyframes_.size(); ++k) {
     Keyframe& kf = keyframes_[k];

@@ -100,6 +100,14 @@ struct SlamConfig {
   double heading_link_s = 0.0;
   double heading_link_walk_dps = 0.05;   // deg/√s
   double heading_link_white_deg = 0.2;   // deg
+  // Addition (docs/SLAM.md "Robust losses"): the loss of loop-closure factors in the graph,
+  // on the whitened residual: "none" (least squares, SPEC), "huber" or "cauchy", bending at
+  // a whitened norm of loop_loss_scale. A loop that passed the gate and PCM but is wrong
+  // then pulls with a bounded force. Solved by reweighting (IRLS), one step per full solve:
+  // each loop's weight comes from its residual at the previous full solve's optimum, so a
+  // re-solve costs what a least-squares one does.
+  GraphEdge::Loss loop_loss = GraphEdge::Loss::kCauchy;
+  double loop_loss_scale = 3.37;  // sqrt of chi-square(0.99, 3): inliers stay quadratic
   FitInformationConfig fit_information;
   PoseGraphConfig solver;
 };
@@ -120,6 +128,11 @@ struct Factor {
   // identity otherwise. weakened: how many of the 3 directions were weakened.
   Eigen::Matrix3d mix = Eigen::Matrix3d::Identity();
   int weakened = 0;
+  // Loop closures under slam.loop_loss: the reweighting of the residual (1 = least squares),
+  // from the loop's residual at the optimum of the last full solve it took part in, and
+  // whether it has taken part in one (a new loop enters at 1: docs/SLAM.md "Robust losses").
+  double robust_weight = 1.0;
+  bool solved = false;
   Eigen::Matrix3d information() const;  // diag(1/sigma) mixᵀ mix diag(1/sigma)
   Eigen::Matrix3d covariance() const;   // its inverse (unobserved directions: 1e6 × sigma²)
 };

@@ -211,21 +211,25 @@ TEST_CASE("Loop candidates that agree with one another but not with the odometry
     }
     return slam;
   };
-  const auto loops_into_bad = [&](const KeyframeSlam& slam, bool accepted) {
+  const auto loops_into_bad = [&](const KeyframeSlam& slam) {  // accepted ones
     int n = 0;
     for (const auto& f : slam.factors()) {
-      n += f.kind == FactorKind::kLoopClosure && f.accepted == accepted && f.to >= static_cast<int>(first_bad) &&
+      n += f.kind == FactorKind::kLoopClosure && f.accepted && f.to >= static_cast<int>(first_bad) &&
            f.to <= static_cast<int>(last_bad);
     }
     return n;
   };
+  // Least squares in both runs: the gate alone. (With the default Cauchy loop loss the
+  // ungated run does better, ATE 0.08 against 0.20 m here: the loss bounds the wrong loops'
+  // pull, docs/SLAM.md "Robust losses".)
   SlamConfig off;
   off.nssm_max_mahalanobis = 0.0;
+  off.loop_loss = GraphEdge::Loss::kNone;
   const KeyframeSlam without = fly(off);
   // The gate at χ²(0.99, 3) rather than the default 30: with the default loop sigma of
   // 0.5 m the default tolerates about 2.7 m, and an ICP started from DR does not converge
   // to a scan misplaced by much more than that in this basin.
-  SlamConfig gated;
+  SlamConfig gated = off;
   gated.nssm_max_mahalanobis = 11.34;
   const KeyframeSlam with = fly(gated);
   int rejected = 0;
@@ -237,12 +241,12 @@ TEST_CASE("Loop candidates that agree with one another but not with the odometry
     p_with.push_back(with.keyframes()[i].T_W_V_slam.translation());
   }
   const double ate_without = ate_rmse(p_without, p_truth), ate_with = ate_rmse(p_with, p_truth);
-  INFO("accepted loops into the misplaced keyframes: without the gate " << loops_into_bad(without, true)
-       << ", with it " << loops_into_bad(with, true) << "; rejected by the gate " << rejected << "; ATE "
+  INFO("accepted loops into the misplaced keyframes: without the gate " << loops_into_bad(without)
+       << ", with it " << loops_into_bad(with) << "; rejected by the gate " << rejected << "; ATE "
        << ate_without << " -> " << ate_with << "; loops accepted " << without.accepted_loop_closures() << " -> "
        << with.accepted_loop_closures());
-  CHECK(loops_into_bad(without, true) >= 2);
-  CHECK(loops_into_bad(with, true) == 0);
+  CHECK(loops_into_bad(without) >= 2);
+  CHECK(loops_into_bad(with) == 0);
   CHECK(rejected >= 2);
   CHECK(with.accepted_loop_closures() >= 1);  // the honest loops still close
   CHECK(ate_with <= ate_without + 0.02);  // near-exact DR here: the gate changes little else

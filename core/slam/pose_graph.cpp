@@ -1,5 +1,6 @@
 #include "core/slam/pose_graph.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -173,6 +174,17 @@ class PosePriorCost final : public ceres::SizedCostFunction<3, 3> {
   Eigen::Vector3d sigma_;
 };
 
+// The edge's robust loss (owned by the problem), or nullptr for least squares.
+ceres::LossFunction* loss_of(const GraphEdge& e) {
+  if (e.loss_scale <= 0.0) return nullptr;
+  switch (e.loss) {
+    case GraphEdge::Loss::kNone: return nullptr;
+    case GraphEdge::Loss::kHuber: return new ceres::HuberLoss(e.loss_scale);
+    case GraphEdge::Loss::kCauchy: return new ceres::CauchyLoss(e.loss_scale);
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 namespace {
@@ -257,9 +269,9 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
     double* a = x[static_cast<size_t>(e.from)].data();
     double* b = x[static_cast<size_t>(e.to)].data();
     if (drifting && e.dt_s != 0.0) {
-      problem.AddResidualBlock(new DriftingPoseCost(e), nullptr, a, b, &rate);
+      problem.AddResidualBlock(new DriftingPoseCost(e), loss_of(e), a, b, &rate);
     } else {
-      problem.AddResidualBlock(new RelativePoseCost(drift_corrected(e, rate), e.sigma, e.mix), nullptr, a, b);
+      problem.AddResidualBlock(new RelativePoseCost(drift_corrected(e, rate), e.sigma, e.mix), loss_of(e), a, b);
     }
   }
   ceres::Solver::Options options = solver_options(config);
@@ -275,6 +287,25 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
     }
   }
   return out;
+}
+
+double edge_whitened_norm(const std::vector<SE2>& poses, const GraphEdge& e, double rate_rad_s) {
+  const SE2& A = poses[static_cast<size_t>(e.from)];
+  const SE2& B = poses[static_cast<size_t>(e.to)];
+  const double a[3] = {A.x, A.y, A.theta}, b[3] = {B.x, B.y, B.theta};
+  Eigen::Vector3d r;
+  relative_pose_residual(a, b, drift_corrected(e, rate_rad_s), e.sigma, r.data(), nullptr, nullptr);
+  return (e.mix * r).norm();
+}
+
+double robust_weight(GraphEdge::Loss loss, double scale, double whitened_norm) {
+  if (scale <= 0.0) return 1.0;
+  switch (loss) {
+    case GraphEdge::Loss::kNone: return 1.0;
+    case GraphEdge::Loss::kHuber: return whitened_norm <= scale ? 1.0 : scale / whitened_norm;
+    case GraphEdge::Loss::kCauchy: return 1.0 / (1.0 + (whitened_norm * whitened_norm) / (scale * scale));
+  }
+  return 1.0;
 }
 
 PoseGraphSummary solve_leaf_pose(std::vector<SE2>& poses, int leaf,
@@ -299,7 +330,7 @@ PoseGraphSummary solve_leaf_pose(std::vector<SE2>& poses, int leaf,
   for (const GraphEdge& e : edges) {
     if (e.from != leaf && e.to != leaf) continue;
     problem.AddResidualBlock(new RelativePoseCost(drift_corrected(e, drift_rate_rad_s), e.sigma, e.mix),
-                             nullptr, block(e.from), block(e.to));
+                             loss_of(e), block(e.from), block(e.to));
   }
   if (problem.NumResidualBlocks() == 0) return out;
   ceres::Solver::Summary summary;

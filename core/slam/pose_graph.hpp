@@ -52,6 +52,11 @@ struct GraphEdge {
   // Duration of the motion (s) when its yaw drifts with the heading (HeadingDrift): the
   // expected yaw change is T_from_to.theta - rate * dt_s. 0: no drift (scan matches).
   double dt_s = 0.0;
+  // Robust loss on the whitened residual (Ceres' loss functions): above `loss_scale` (its
+  // norm) a Huber edge grows linearly, a Cauchy edge logarithmically, so a wrong loop
+  // closure that got into the graph pulls with a bounded force. kNone: least squares.
+  enum class Loss { kNone, kHuber, kCauchy } loss = Loss::kNone;
+  double loss_scale = 0.0;
 };
 
 struct PoseGraphSummary {
@@ -83,10 +88,18 @@ void drifting_pose_residual(const double* a, const double* b, const GraphEdge& e
 
 // Optimises `poses` in place (they are the warm start). Pose 0 carries the prior. With
 // drift->prior_sigma_rad_s > 0 the drift rate is estimated too (drift->rate_rad_s in and out).
+// Edges with a robust loss (GraphEdge::loss) get Ceres' loss function.
 PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
                                   const Eigen::Vector3d& prior_sigma,
                                   const std::vector<GraphEdge>& edges,
                                   const PoseGraphConfig& config, HeadingDrift* drift = nullptr);
+
+// An edge's whitened residual norm |mix diag(1/sigma) e| at `poses` (drift_corrected by the rate).
+double edge_whitened_norm(const std::vector<SE2>& poses, const GraphEdge& e, double rate_rad_s = 0.0);
+// The iteratively-reweighted-least-squares weight of a loss at a whitened residual norm u:
+// ρ'(u²) (Huber: min(1, scale / u); Cauchy: 1 / (1 + u² / scale²)). A least-squares edge whose
+// squared residual is multiplied by it has, at that residual, the loss's gradient.
+double robust_weight(GraphEdge::Loss loss, double scale, double whitened_norm);
 
 // Optimises one pose, `leaf`, over the edges that touch it, every other pose held where it
 // is. When a new keyframe is joined to the graph only through edges to poses already

@@ -1,6 +1,8 @@
 #include "core/slam/pose_graph.hpp"
 
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <utility>
 
@@ -214,4 +216,72 @@ TEST_CASE("A steady heading drift in the odometry is estimated against unbiased 
   REQUIRE(solve_pose_graph(off, truth[0], {0.01, 0.01, 0.001}, edges, {}, &none).usable);
   CHECK(none.rate_rad_s == 0.0);
   for (size_t k = 0; k < off.size(); ++k) CHECK(off[k].theta == plain[k].theta);
+}
+
+TEST_CASE("A robust loss bounds the pull of a wrong loop closure and leaves correct ones alone", "[unit]") {
+  // A 30-pose path of 1 m steps with a slight turn, exact odometry, four correct loop
+  // closures across it and (optionally) one 3 m / 0.15 rad wrong one.
+  std::vector<SE2> truth{{0, 0, 0}};
+  std::vector<GraphEdge> edges;
+  for (int i = 0; i < 29; ++i) {
+    const SE2 step{1.0, 0.0, 0.1};
+    edges.push_back({i, i + 1, step, {0.05, 0.05, 0.005}});
+    truth.push_back(truth.back() * step);
+  }
+  for (int i : {0, 5, 10, 15}) edges.push_back({i, i + 14, truth[i].inverse() * truth[i + 14], {0.5, 0.5, 0.05}});
+  const GraphEdge wrong{3, 25, SE2{3.0, 0.0, 0.15} * (truth[3].inverse() * truth[25]), {0.5, 0.5, 0.05}};
+  const auto solve = [&](bool with_wrong, GraphEdge::Loss loss) {
+    std::vector<GraphEdge> e = edges;
+    if (with_wrong) e.push_back(wrong);
+    for (size_t k = 29; k < e.size(); ++k) {  // the loop closures
+      e[k].loss = loss;
+      e[k].loss_scale = 3.37;
+    }
+    std::vector<SE2> poses(truth.size(), SE2{0, 0, 0});
+    for (size_t k = 1; k < truth.size(); ++k) poses[k] = poses[k - 1] * edges[k - 1].T_from_to;  // odometry start
+    const PoseGraphSummary s = solve_pose_graph(poses, truth[0], {0.01, 0.01, 0.001}, e, PoseGraphConfig{});
+    REQUIRE(s.usable);
+    double worst = 0.0;
+    for (size_t k = 0; k < truth.size(); ++k)
+      worst = std::max(worst, std::hypot(poses[k].x - truth[k].x, poses[k].y - truth[k].y));
+    return worst;
+  };
+  const double clean_ls = solve(false, GraphEdge::Loss::kNone);
+  const double clean_cauchy = solve(false, GraphEdge::Loss::kCauchy);
+  const double bad_ls = solve(true, GraphEdge::Loss::kNone);
+  const double bad_huber = solve(true, GraphEdge::Loss::kHuber);
+  const double bad_cauchy = solve(true, GraphEdge::Loss::kCauchy);
+  INFO("worst position error: correct loops " << clean_ls << " (Cauchy " << clean_cauchy << "); with a wrong loop "
+       << bad_ls << ", Huber " << bad_huber << ", Cauchy " << bad_cauchy);
+  CHECK(clean_ls < 1e-6);
+  CHECK(clean_cauchy < 1e-6);  // residuals ~0: the loss changes nothing
+  CHECK(bad_ls > 0.1);
+  CHECK(bad_huber < bad_ls);  // convex: bounded pull, but a wrong loop still bends the path
+  CHECK(bad_cauchy < 0.6 * bad_ls);
+
+  // KeyframeSlam's form (one reweighting per re-solve): least squares with each loop's
+  // residual scaled by sqrt(robust_weight) at the previous solution converges to the
+  // Cauchy solution Ceres finds with the loss itself.
+  std::vector<GraphEdge> e = edges;
+  e.push_back(wrong);
+  std::vector<SE2> poses(truth.size(), SE2{0, 0, 0});
+  for (size_t k = 1; k < truth.size(); ++k) poses[k] = poses[k - 1] * edges[k - 1].T_from_to;
+  std::vector<double> w(e.size(), 1.0);
+  for (int step = 0; step < 30; ++step) {
+    std::vector<GraphEdge> weighted = e;
+    for (size_t k = 29; k < e.size(); ++k) {
+      if (step > 0) w[k] = robust_weight(GraphEdge::Loss::kCauchy, 3.37, edge_whitened_norm(poses, e[k]));
+      weighted[k].mix *= std::sqrt(w[k]);
+    }
+    REQUIRE(solve_pose_graph(poses, truth[0], {0.01, 0.01, 0.001}, weighted, PoseGraphConfig{}).usable);
+  }
+  double irls = 0.0;
+  for (size_t k = 0; k < truth.size(); ++k) irls = std::max(irls, std::hypot(poses[k].x - truth[k].x, poses[k].y - truth[k].y));
+  INFO("reweighted least squares: worst position error " << irls << ", wrong loop's weight " << w.back());
+  CHECK(irls == Approx(bad_cauchy).margin(0.005));
+  CHECK(w.back() < 0.5);
+  CHECK(robust_weight(GraphEdge::Loss::kHuber, 2.0, 1.0) == 1.0);
+  CHECK(robust_weight(GraphEdge::Loss::kHuber, 2.0, 4.0) == 0.5);
+  CHECK(robust_weight(GraphEdge::Loss::kCauchy, 2.0, 2.0) == 0.5);
+  CHECK(robust_weight(GraphEdge::Loss::kNone, 2.0, 9.0) == 1.0);
 }
