@@ -7,15 +7,11 @@ three three-pile dolphins and a seabed pipeline. Shapes the four built-in scenes
 quay do not have: sloped faces, a 135-degree bend, a heeled hull, pile clusters.
 """
 import math
+import os
+import sys
 
-
-def write_obj(path, comment, verts, faces):
-    with open(path, "w") as f:
-        f.write(f"# orthosonar example: {comment}\n")
-        for v in verts:
-            f.write("v %.4f %.4f %.4f\n" % v)
-        for a, b, c in faces:
-            f.write(f"f {a + 1} {b + 1} {c + 1}\n")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from meshgen import closed_cylinder_faces, write_obj  # noqa: E402
 
 
 def prism(section, length):
@@ -36,12 +32,7 @@ def prism(section, length):
 def cylinder(r, h, sides):
     ring = [(r * math.cos(2 * math.pi * k / sides), r * math.sin(2 * math.pi * k / sides)) for k in range(sides)]
     verts = [(x, y, 0.0) for x, y in ring] + [(x, y, h) for x, y in ring] + [(0.0, 0.0, 0.0), (0.0, 0.0, h)]
-    b, t = 2 * sides, 2 * sides + 1
-    faces = []
-    for k in range(sides):
-        j = (k + 1) % sides
-        faces += [(k, j, sides + j), (k, sides + j, sides + k), (b, j, k), (t, sides + k, sides + j)]
-    return verts, faces
+    return verts, closed_cylinder_faces(sides)
 
 
 # Rubble-mound arm: trapezoid 10 m wide at the seabed, 3 m at the crest, 7.5 m high

@@ -7,15 +7,11 @@ rock scour apron, and a subsea manifold with a spool to the jacket. Thin members
 every side, the opposite of the quay's and the breakwater's one long face.
 """
 import math
+import os
+import sys
 
-
-def write_obj(path, comment, verts, faces):
-    with open(path, "w") as f:
-        f.write(f"# orthosonar example: {comment}\n")
-        for v in verts:
-            f.write("v %.4f %.4f %.4f\n" % v)
-        for a, b, c in faces:
-            f.write(f"f {a + 1} {b + 1} {c + 1}\n")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from meshgen import closed_cylinder_faces, write_obj  # noqa: E402
 
 
 def tube(p, q, r, sides=10):
@@ -34,12 +30,7 @@ def tube(p, q, r, sides=10):
             t = 2 * math.pi * k / sides
             verts.append(tuple(end[i] + r * (math.cos(t) * u[i] + math.sin(t) * w[i]) for i in range(3)))
     verts += [tuple(p), tuple(q)]
-    cp, cq = 2 * sides, 2 * sides + 1
-    faces = []
-    for k in range(sides):
-        j = (k + 1) % sides
-        faces += [(k, j, sides + j), (k, sides + j, sides + k), (cp, j, k), (cq, sides + k, sides + j)]
-    return verts, faces
+    return verts, closed_cylinder_faces(sides)
 
 
 def merge(parts):
