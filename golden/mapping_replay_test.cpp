@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "replay/testing.hpp"
 #include "golden/cli_runner.hpp"
 #include "replay/run/mission.hpp"
@@ -82,6 +84,26 @@ TEST_CASE("replay gives one digest over 5 runs and with 1 2 4 and 8 threads", "[
                            "fusion/metrics.json", "submap/map.pcd", "submap/map.ply", "submap/map.bt",
                            "submap/metrics.json"})
     CHECK(fs::exists(out / name));
+  // summary.json's account of the SLAM factors agrees with the run's counts: one prior, a DR
+  // factor per keyframe after the first, the accepted loops, and reasons that add up.
+  {
+    std::ifstream in(out / "summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    const nlohmann::json& sf = summary.at("slam_factors");
+    const int64_t keyframes = summary.at("counts").at("keyframes").get<int64_t>();
+    REQUIRE(keyframes > 1);
+    CHECK(sf.at("prior").at("total") == 1);
+    CHECK(sf.at("odometry_dr").at("total").get<int64_t>() == keyframes - 1);
+    const int64_t loops = summary.at("counts").at("loop_closures").get<int64_t>();
+    CHECK((sf.contains("loop_closure") ? sf.at("loop_closure").at("accepted").get<int64_t>() : 0) == loops);
+    for (const auto& [kind, v] : sf.items()) {
+      int64_t n = 0;
+      for (const auto& [reason, c] : v.at("reasons").items()) n += c.get<int64_t>();
+      INFO(kind);
+      CHECK(n == v.at("total").get<int64_t>());
+      CHECK(v.at("accepted").get<int64_t>() <= n);
+    }
+  }
   // The CLI gives the library's digest.
   const Run cli = run("replay " + f + " -q --threads 2 -o " + (test_dir() / "replay_cli").string());
   REQUIRE(cli.code == 0);

@@ -3,7 +3,9 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <string>
 
+#include "core/slam/keyframe_slam.hpp"
 #include "hal/sim/mesh_io.hpp"
 #include "orthosonar/version.hpp"
 #include "replay/outputs/map_writers.hpp"
@@ -31,6 +33,30 @@ Status write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   f << j.dump(2) << "\n";
   if (!f) return Error{"write failed for '" + path.string() + "'"};
   return {};
+}
+
+// What SLAM did with its factors, per kind: how many joined the graph, and every outcome
+// reason (KeyframeSlam's Factor::reason up to its first number or "(n weak directions)"
+// note) with its count; loop closures also count those the robust loss down-weights below one half.
+// Answers "why did SLAM not beat DR here" without a debugger.
+nlohmann::json slam_factors_json(const slam::KeyframeSlam& slam) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const slam::Factor& f : slam.factors()) {
+    nlohmann::json& k = out[slam::factor_kind_name(f.kind)];
+    if (k.is_null()) k = {{"total", 0}, {"accepted", 0}, {"reasons", nlohmann::json::object()}};
+    k["total"] = k["total"].get<int64_t>() + 1;
+    if (f.accepted) k["accepted"] = k["accepted"].get<int64_t>() + 1;
+    std::string reason = f.reason.substr(0, f.reason.find(" ("));
+    reason = reason.substr(0, reason.find_first_of("0123456789"));  // "pcm clique of 3" -> "pcm clique of"
+    while (!reason.empty() && reason.back() == ' ') reason.pop_back();
+    nlohmann::json& r = k["reasons"][reason.empty() ? "unspecified" : reason];
+    r = r.is_null() ? 1 : r.get<int64_t>() + 1;
+    if (f.kind == slam::FactorKind::kLoopClosure && f.accepted) {
+      nlohmann::json& d = k["downweighted_below_half"];
+      d = (d.is_null() ? 0 : d.get<int64_t>()) + (f.robust_weight < 0.5 ? 1 : 0);
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -100,6 +126,7 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   summary["runtime"] = runtime_json(run.runtime);
   summary["ate_dr_m"] = opt_json(run.ate_dr_m);
   summary["ate_slam_m"] = opt_json(run.ate_slam_m);
+  summary["slam_factors"] = slam_factors_json(run.pipeline->slam());
   if (run.pipeline->slam().config().heading_drift_sigma_dps > 0.0) {
     summary["slam_heading_drift_dps"] = run.pipeline->slam().heading_drift_rad_s() * 180.0 / std::numbers::pi;
   }
