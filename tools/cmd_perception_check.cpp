@@ -15,8 +15,8 @@
 // figures beside the profiles. --fixture measures a recorded, labelled fixture's images as
 // recorded (its own profile, its embedded scene and truth poses). --json writes every figure
 // (deterministic: no timings). --cloud writes the true-pose fused points with their mesh
-// distance, range, bearing, elevation and confidence (PLY). It is the harness behind the perception numbers in
-// docs/PERCEPTION.md.
+// distance, range, bearing, elevation and confidence (PLY). It is the harness behind the
+// perception numbers in docs/PERCEPTION.md.
 #include <algorithm>
 #include <cerrno>
 #include <cmath>

@@ -298,6 +298,15 @@ double edge_whitened_norm(const std::vector<SE2>& poses, const GraphEdge& e, dou
   return (e.mix * r).norm();
 }
 
+const char* loss_name(GraphEdge::Loss loss) {
+  switch (loss) {
+    case GraphEdge::Loss::kNone: return "none";
+    case GraphEdge::Loss::kHuber: return "huber";
+    case GraphEdge::Loss::kCauchy: return "cauchy";
+  }
+  return "none";
+}
+
 double robust_weight(GraphEdge::Loss loss, double scale, double whitened_norm) {
   if (scale <= 0.0) return 1.0;
   switch (loss) {

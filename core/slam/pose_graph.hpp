@@ -94,6 +94,10 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
                                   const std::vector<GraphEdge>& edges,
                                   const PoseGraphConfig& config, HeadingDrift* drift = nullptr);
 
+// "none", "huber", "cauchy": the configuration's names of GraphEdge::Loss.
+const char* loss_name(GraphEdge::Loss loss);
+inline constexpr GraphEdge::Loss kLosses[] = {GraphEdge::Loss::kNone, GraphEdge::Loss::kHuber, GraphEdge::Loss::kCauchy};
+
 // An edge's whitened residual norm |mix diag(1/sigma) e| at `poses` (drift_corrected by the rate).
 double edge_whitened_norm(const std::vector<SE2>& poses, const GraphEdge& e, double rate_rad_s = 0.0);
 // The iteratively-reweighted-least-squares weight of a loss at a whitened residual norm u:

@@ -271,11 +271,12 @@ Table root_table(RunConfig& c) {
                       {"heading_link_white_deg", real(s.heading_link_white_deg, 0.0, 10.0)},
                       {"loop_loss", choice("none, huber, cauchy",
                                            [&s](const std::string& v) {
-                                             if (v == "none") s.loop_loss = slam::GraphEdge::Loss::kNone;
-                                             else if (v == "huber") s.loop_loss = slam::GraphEdge::Loss::kHuber;
-                                             else if (v == "cauchy") s.loop_loss = slam::GraphEdge::Loss::kCauchy;
-                                             else return false;
-                                             return true;
+                                             for (slam::GraphEdge::Loss l : slam::kLosses)
+                                               if (v == slam::loss_name(l)) {
+                                                 s.loop_loss = l;
+                                                 return true;
+                                               }
+                                             return false;
                                            })},
                       {"loop_loss_scale", real(s.loop_loss_scale, 0.0, 1000.0, true)},
                       {"solver", nested([&s] {
@@ -413,9 +414,7 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"heading_link_s", s.heading_link_s},
                 {"heading_link_walk_dps", s.heading_link_walk_dps},
                 {"heading_link_white_deg", s.heading_link_white_deg},
-                {"loop_loss", s.loop_loss == slam::GraphEdge::Loss::kHuber    ? "huber"
-                              : s.loop_loss == slam::GraphEdge::Loss::kCauchy ? "cauchy"
-                                                                              : "none"},
+                {"loop_loss", slam::loss_name(s.loop_loss)},
                 {"loop_loss_scale", s.loop_loss_scale},
                 {"solver", {{"max_iterations", s.solver.max_iterations},
                             {"function_tolerance", s.solver.function_tolerance},
