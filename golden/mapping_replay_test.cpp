@@ -4,6 +4,7 @@
 // follows the outputs contract. The CLI's verify (exit codes, naming a tampered output) is
 // checked through the executable, as a user runs it.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -82,8 +83,33 @@ TEST_CASE("replay gives one digest over 5 runs and with 1 2 4 and 8 threads", "[
   for (const char* name : {"digest.json", "summary.json", "keyframes.csv", "traj_dr.tum", "traj_slam.tum",
                            "traj_truth.tum", "scene_mesh.ply", "fusion/map.pcd", "fusion/map.ply", "fusion/map.bt",
                            "fusion/metrics.json", "submap/map.pcd", "submap/map.ply", "submap/map.bt",
-                           "submap/metrics.json"})
+                           "submap/metrics.json", "factors.csv"})
     CHECK(fs::exists(out / name));
+  // A simulated fixture has truth: each geometric map is also measured with the true
+  // keyframe poses, and every factor but the prior has its true relative pose and error.
+  for (const char* name : {"fusion/metrics.json", "submap/metrics.json"}) {
+    std::ifstream in(out / name);
+    const nlohmann::json m = nlohmann::json::parse(in);
+    INFO(name);
+    REQUIRE(m.at("true_pose_mae_m").is_number());
+    // (This 15 s mission may fuse no points: then both errors are 0, as mae_m is.)
+    CHECK((m.at("true_pose_mae_m").get<double>() > 0.0) == (m.at("counts").at("map_points").get<int64_t>() > 0));
+    CHECK(m.at("true_pose_rmse_m").get<double>() >= m.at("true_pose_mae_m").get<double>());
+  }
+  int64_t factor_rows = 0;
+  {
+    std::ifstream in(out / "factors.csv");
+    std::string line;
+    REQUIRE(std::getline(in, line));
+    CHECK(line.rfind("kind,from,to,x,y,theta,", 0) == 0);
+    while (std::getline(in, line)) {
+      ++factor_rows;
+      const bool prior = line.rfind("prior,", 0) == 0;
+      INFO(line);
+      CHECK(std::count(line.begin(), line.end(), ',') == 18);
+      CHECK((line.back() == ',') == prior);  // err_theta empty only for the prior
+    }
+  }
   // summary.json's account of the SLAM factors agrees with the run's counts: one prior, a DR
   // factor per keyframe after the first, the accepted loops, and reasons that add up.
   {
@@ -93,6 +119,9 @@ TEST_CASE("replay gives one digest over 5 runs and with 1 2 4 and 8 threads", "[
     const int64_t keyframes = summary.at("counts").at("keyframes").get<int64_t>();
     REQUIRE(keyframes > 1);
     CHECK(sf.at("prior").at("total") == 1);
+    int64_t factors = 0;
+    for (const auto& [kind, v] : sf.items()) factors += v.at("total").get<int64_t>();
+    CHECK(factors == factor_rows);
     CHECK(sf.at("odometry_dr").at("total").get<int64_t>() == keyframes - 1);
     const int64_t loops = summary.at("counts").at("loop_closures").get<int64_t>();
     CHECK((sf.contains("loop_closure") ? sf.at("loop_closure").at("accepted").get<int64_t>() : 0) == loops);

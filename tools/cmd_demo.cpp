@@ -1,7 +1,8 @@
 // `orthosonar demo`: the README's first command. Runs the self-check, simulates the default
 // mission (harbor, full resolution, a few minutes) into <out>/harbor.mcap, replays it with
 // sonar fusion mapping and submapping on both cores, writes the output directory and
-// prints a summary table (coverage, MAE, RMSE, ATE DR/SLAM, runtime).
+// prints a summary table (coverage, MAE, RMSE, MAE with true keyframe poses, ATE DR/SLAM,
+// runtime).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -32,8 +33,8 @@ std::string opt(const std::optional<double>& v, const char* f = "%.3f") {
 }
 
 void print_table(const RunOutput& r) {
-  std::printf("\n%-8s %10s %8s %8s %8s %9s %16s %16s\n", "system", "coverage", "MAE m", "RMSE m", "ATE DR",
-              "ATE SLAM", "fusion ms/pair", "map ms/step");
+  std::printf("\n%-8s %10s %8s %8s %11s %8s %9s %16s %16s\n", "system", "coverage", "MAE m", "RMSE m",
+              "MAE true m", "ATE DR", "ATE SLAM", "fusion ms/pair", "map ms/step");
   double fusion_ms = 0.0, fusion_sd = 0.0;
   for (const auto& [name, s] : r.runtime)
     if (name == "fusion") fusion_ms = s.mean_ms(), fusion_sd = s.sd_ms();
@@ -43,10 +44,11 @@ void print_table(const RunOutput& r) {
     char f[32], m[32];
     std::snprintf(f, sizeof f, "%.2f±%.2f", fusion_ms, fusion_sd);
     std::snprintf(m, sizeof m, "%.4f±%.4f", map_ms, map_sd);
-    std::printf("%-8s %10lld %8s %8s %8s %9s %16s %16s\n", s.name.c_str(),
+    std::printf("%-8s %10lld %8s %8s %11s %8s %9s %16s %16s\n", s.name.c_str(),
                 static_cast<long long>(s.coverage_voxels),
                 opt(s.accuracy ? std::optional<double>(s.accuracy->mae_m) : std::nullopt).c_str(),
                 opt(s.accuracy ? std::optional<double>(s.accuracy->rmse_m) : std::nullopt).c_str(),
+                opt(s.true_pose_accuracy ? std::optional<double>(s.true_pose_accuracy->mae_m) : std::nullopt).c_str(),
                 opt(r.ate_dr_m).c_str(), opt(r.ate_slam_m).c_str(), f, m);
   }
   std::printf("\npairs %lld, keyframes %lld, loop closures %lld; %.0f s of sensor data replayed in %.1f s (%.0fx real time)\n",

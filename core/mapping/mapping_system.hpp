@@ -6,6 +6,7 @@
 // on_pair returns (the pointers in PairInput are valid only during the call).
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -100,6 +101,14 @@ class MappingSystem {
   virtual void on_poses_updated(const std::vector<SE3>& T_W_K_slam) = 0;
   // The map in W, in a deterministic order.
   virtual std::vector<Eigen::Vector3f> map_points_W() const = 0;
+  // The same map with the keyframes placed by `T_W_K` (index = keyframe id) instead of
+  // the SLAM poses, e.g. the true poses of a simulated run, to separate what navigation
+  // costs the map from what perception does. nullopt for a system whose map does not
+  // follow the keyframe poses alone (the default).
+  virtual std::optional<std::vector<Eigen::Vector3f>> map_points_W_with(const std::vector<SE3>& T_W_K) const {
+    (void)T_W_K;
+    return std::nullopt;
+  }
   // Per-stage runtime, e.g. {"submap_construction", stats}.
   virtual std::vector<std::pair<std::string, RuntimeStats>> runtime() const = 0;
   // System-specific counters for metrics.json (e.g. inference's clusters and Bayes

@@ -85,6 +85,23 @@ std::optional<Vec3> truth_position_at(const std::vector<TruthPose>& truth, Time 
   return Vec3(a.p_W + s * (b.p_W - a.p_W));
 }
 
+std::optional<SE3> truth_pose_at(const std::vector<TruthPose>& truth, Time t) {
+  if (truth.empty() || t < truth.front().stamp || t > truth.back().stamp) return std::nullopt;
+  const auto it = std::lower_bound(truth.begin(), truth.end(), t,
+                                   [](const TruthPose& p, Time s) { return p.stamp < s; });
+  auto pose = [](const TruthPose& p) {
+    SE3 T = SE3::Identity();
+    T.linear() = p.q_W_V.normalized().toRotationMatrix();
+    T.translation() = p.p_W;
+    return T;
+  };
+  if (it->stamp == t) return pose(*it);
+  const TruthPose& b = *it;
+  const TruthPose& a = *(it - 1);
+  const double s = static_cast<double>((t - a.stamp).ns()) / static_cast<double>((b.stamp - a.stamp).ns());
+  return interpolate(pose(a), pose(b), s);
+}
+
 std::optional<double> absolute_trajectory_error(const std::vector<StampedPosition>& estimate,
                                                 const std::vector<TruthPose>& truth) {
   double sum_sq = 0.0;

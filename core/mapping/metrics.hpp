@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "core/events.hpp"
+#include "core/geometry.hpp"
 #include "core/mapping/mesh_distance.hpp"
 #include "core/time.hpp"
 
@@ -41,6 +42,9 @@ struct StampedPosition {
 // Ground truth p_W at `t`, linearly interpolated between the neighbouring truth poses
 // (sorted by stamp); nullopt outside their span.
 std::optional<Vec3> truth_position_at(const std::vector<TruthPose>& truth, Time t);
+// Ground truth T_W_V at `t`: position as truth_position_at, orientation slerped between
+// the neighbouring truth poses; nullopt outside their span.
+std::optional<SE3> truth_pose_at(const std::vector<TruthPose>& truth, Time t);
 // RMSE of estimate positions against truth interpolated at their stamps. Estimates outside
 // the truth span are skipped; nullopt when none remain.
 std::optional<double> absolute_trajectory_error(const std::vector<StampedPosition>& estimate,

@@ -96,3 +96,22 @@ TEST_CASE("ATE against a known trajectory", "[unit]") {
   CHECK(*absolute_trajectory_error({{Time::from_s(3), Vec3(3, 0, 0)}}, truth) == 0.0);
   CHECK_FALSE(absolute_trajectory_error({}, truth).has_value());
 }
+
+TEST_CASE("truth pose interpolated in position and orientation", "[unit]") {
+  std::vector<TruthPose> truth(2);
+  truth[0].stamp = Time::from_s(1);
+  truth[0].p_W = Vec3(0, 0, -2);
+  truth[1].stamp = Time::from_s(3);
+  truth[1].p_W = Vec3(4, 2, -2);
+  truth[1].q_W_V = Quat(Eigen::AngleAxisd(0.4, Vec3::UnitZ()));
+  const auto mid = truth_pose_at(truth, Time::from_s(2));
+  REQUIRE(mid.has_value());
+  CHECK((mid->translation() - Vec3(2, 1, -2)).norm() < 1e-12);
+  CHECK(Eigen::AngleAxisd(mid->rotation()).angle() == Approx(0.2));
+  CHECK(Eigen::AngleAxisd(mid->rotation()).axis().z() == Approx(1.0));
+  const auto end = truth_pose_at(truth, Time::from_s(3));
+  REQUIRE(end.has_value());
+  CHECK((end->translation() - Vec3(4, 2, -2)).norm() < 1e-12);
+  CHECK_FALSE(truth_pose_at(truth, Time::from_ms(999)).has_value());
+  CHECK_FALSE(truth_pose_at({}, Time::from_s(2)).has_value());
+}

@@ -33,13 +33,19 @@ void FusionMapping::on_pair(const PairInput& pair) {
 
 void FusionMapping::on_poses_updated(const std::vector<SE3>& T_W_K_slam) { T_W_K_ = T_W_K_slam; }
 
-std::vector<Eigen::Vector3f> FusionMapping::map_points_W() const {
+std::vector<Eigen::Vector3f> FusionMapping::assemble(const std::vector<SE3>& T_W_K) const {
   std::vector<Eigen::Vector3f> out;
   for (size_t k = 0; k < frames_.size(); ++k) {
-    const SE3& T = k < T_W_K_.size() ? T_W_K_[k] : frames_[k].T_W_K_dr;
+    const SE3& T = k < T_W_K.size() ? T_W_K[k] : frames_[k].T_W_K_dr;
     transform_append(T, frames_[k].p_K, out);
   }
   return out;
+}
+
+std::vector<Eigen::Vector3f> FusionMapping::map_points_W() const { return assemble(T_W_K_); }
+
+std::optional<std::vector<Eigen::Vector3f>> FusionMapping::map_points_W_with(const std::vector<SE3>& T_W_K) const {
+  return assemble(T_W_K);
 }
 
 std::vector<std::pair<std::string, RuntimeStats>> FusionMapping::runtime() const {
@@ -59,6 +65,10 @@ void Submapping::on_pair(const PairInput& pair) {
 void Submapping::on_poses_updated(const std::vector<SE3>& T_W_K_slam) { T_W_K_ = T_W_K_slam; }
 
 std::vector<Eigen::Vector3f> Submapping::map_points_W() const { return store_.assemble(T_W_K_); }
+
+std::optional<std::vector<Eigen::Vector3f>> Submapping::map_points_W_with(const std::vector<SE3>& T_W_K) const {
+  return store_.assemble(T_W_K);
+}
 
 std::vector<std::pair<std::string, RuntimeStats>> Submapping::runtime() const {
   return {{"submap_construction", construction_}};

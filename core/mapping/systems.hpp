@@ -22,10 +22,12 @@ class FusionMapping final : public MappingSystem {
   void on_keyframe(const KeyframeInput& keyframe) override;
   void on_poses_updated(const std::vector<SE3>& T_W_K_slam) override;
   std::vector<Eigen::Vector3f> map_points_W() const override;
+  std::optional<std::vector<Eigen::Vector3f>> map_points_W_with(const std::vector<SE3>& T_W_K) const override;
   std::vector<std::pair<std::string, RuntimeStats>> runtime() const override;
   void set_clock(const StageClock* clock) override { clock_ = clock; }
 
  private:
+  std::vector<Eigen::Vector3f> assemble(const std::vector<SE3>& T_W_K) const;
   struct Frame {
     Time stamp;
     SE3 T_W_K_dr = SE3::Identity();
@@ -46,6 +48,7 @@ class Submapping final : public MappingSystem {
   void on_keyframe(const KeyframeInput& keyframe) override;
   void on_poses_updated(const std::vector<SE3>& T_W_K_slam) override;
   std::vector<Eigen::Vector3f> map_points_W() const override;
+  std::optional<std::vector<Eigen::Vector3f>> map_points_W_with(const std::vector<SE3>& T_W_K) const override;
   std::vector<std::pair<std::string, RuntimeStats>> runtime() const override;
   void set_clock(const StageClock* clock) override { clock_ = clock; }
   const SubmapStore& store() const { return store_; }

@@ -70,6 +70,17 @@ TEST_CASE("fusion mapping keeps only each keyframe's own pair", "[unit]") {
   const auto smap = sm.map_points_W();
   CHECK((smap[2] - Eigen::Vector3f(8, 0, 0)).norm() < 1e-5f);  // keyframe 0 unmoved
   CHECK((smap[3] - Eigen::Vector3f(7, 1, 0)).norm() < 1e-5f);
+  // Other poses (e.g. the true ones) place the same clouds without touching the SLAM map.
+  const std::vector<SE3> other = {se3_from_xyz_rpy(0, 0, 0, 0, 0, 1.5707963267948966), se3_from_xyz_rpy(2, -1, 0, 0, 0, 0)};
+  const auto fother = fm.map_points_W_with(other);
+  const auto sother = sm.map_points_W_with(other);
+  REQUIRE(fother.has_value());
+  REQUIRE(sother.has_value());
+  CHECK(((*fother)[0] - Eigen::Vector3f(0, 6, 0)).norm() < 1e-5f);  // keyframe 0 turned 90 degrees
+  CHECK((fother->back() - Eigen::Vector3f(7, -1, 0)).norm() < 1e-5f);
+  CHECK(((*sother)[3] - Eigen::Vector3f(7, -1, 0)).norm() < 1e-5f);
+  CHECK(fm.map_points_W() == fmap);
+  CHECK(sm.map_points_W() == smap);
   CHECK(make_geometric_system("fusion")->name() == "fusion");
   CHECK(make_geometric_system("nope") == nullptr);
 }

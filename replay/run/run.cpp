@@ -198,6 +198,9 @@ std::map<std::string, std::vector<uint8_t>> canonical_outputs(const RunOutput& r
     mt.put_f64(s.accuracy ? s.accuracy->rmse_m : std::numeric_limits<double>::quiet_NaN());
     mt.put_f64(nan_or(r.ate_dr_m));
     mt.put_f64(nan_or(r.ate_slam_m));
+    mt.put_i64(s.true_pose_accuracy ? s.true_pose_accuracy->count : 0);
+    mt.put_f64(s.true_pose_accuracy ? s.true_pose_accuracy->mae_m : std::numeric_limits<double>::quiet_NaN());
+    mt.put_f64(s.true_pose_accuracy ? s.true_pose_accuracy->rmse_m : std::numeric_limits<double>::quiet_NaN());
     out[s.name + "/metrics"] = mt.take();
   }
   return out;
@@ -285,6 +288,19 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
   std::optional<mapping::MeshDistance> md;
   if (mesh) md.emplace(*mesh);
   const mapping::VoxelConfig vc{options.config.voxel_m};
+  // The keyframes' true poses, when the truth stream spans all of them.
+  std::optional<std::vector<SE3>> T_W_K_true;
+  if (md && !r.truth.empty()) {
+    T_W_K_true.emplace();
+    for (const auto& k : r.pipeline->slam().keyframes()) {
+      const auto T = mapping::truth_pose_at(r.truth, k.stamp);
+      if (!T) {
+        T_W_K_true.reset();
+        break;
+      }
+      T_W_K_true->push_back(*T);
+    }
+  }
   for (const auto& s : r.pipeline->systems()) {
     SystemOutput o;
     o.name = s->name();
@@ -292,6 +308,9 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
     const auto centroids = mapping::voxel_centroids(o.map_W, vc);
     o.coverage_voxels = static_cast<int64_t>(centroids.size());
     if (md) o.accuracy = mapping::accuracy(centroids, *md);
+    if (T_W_K_true)
+      if (const auto true_map = s->map_points_W_with(*T_W_K_true))
+        o.true_pose_accuracy = mapping::accuracy(mapping::voxel_centroids(*true_map, vc), *md);
     o.runtime = s->runtime();
     o.system_counts = s->system_counts();
     r.systems.push_back(std::move(o));

@@ -1,5 +1,5 @@
 // The output directory of the outputs contract: per-system maps (PCD, PLY, OctoMap) and
-// metrics.json, keyframes.csv, TUM trajectories, scene mesh, summary.json and digest.json.
+// metrics.json, keyframes.csv, factors.csv, TUM trajectories, scene mesh, summary.json and digest.json.
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -70,6 +70,10 @@ nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s) 
           {"coverage_voxels", s.coverage_voxels},
           {"mae_m", s.accuracy ? nlohmann::json(s.accuracy->mae_m) : nlohmann::json(nullptr)},
           {"rmse_m", s.accuracy ? nlohmann::json(s.accuracy->rmse_m) : nlohmann::json(nullptr)},
+          {"true_pose_mae_m",
+           s.true_pose_accuracy ? nlohmann::json(s.true_pose_accuracy->mae_m) : nlohmann::json(nullptr)},
+          {"true_pose_rmse_m",
+           s.true_pose_accuracy ? nlohmann::json(s.true_pose_accuracy->rmse_m) : nlohmann::json(nullptr)},
           {"ate_dr_m", opt_json(run.ate_dr_m)},
           {"ate_slam_m", opt_json(run.ate_slam_m)},
           {"runtime", runtime_json([&] {
@@ -100,6 +104,7 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   }
   const auto& slam = run.pipeline->slam();
   if (Status st = write_keyframe_table((out / "keyframes.csv").string(), slam); !st.ok()) return st;
+  if (Status st = write_factor_table((out / "factors.csv").string(), slam, run.truth); !st.ok()) return st;
   if (Status st = write_tum((out / "traj_dr.tum").string(), keyframe_poses_dr(slam)); !st.ok()) return st;
   if (Status st = write_tum((out / "traj_slam.tum").string(), keyframe_poses_slam(slam)); !st.ok()) return st;
   if (!run.truth.empty())

@@ -147,6 +147,11 @@ Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& opt
       cs.mae_m = s.accuracy->mae_m;
       cs.rmse_m = s.accuracy->rmse_m;
     }
+    if (s.true_pose_accuracy) {
+      cs.true_pose_count = s.true_pose_accuracy->count;
+      cs.true_pose_mae_m = s.true_pose_accuracy->mae_m;
+      cs.true_pose_rmse_m = s.true_pose_accuracy->rmse_m;
+    }
     for (const auto& [name, st] : s.runtime) cs.runtime.merge(st);
     c.systems.push_back(cs);
   }
@@ -226,18 +231,32 @@ std::string fmt(const char* f, double v) {
   return buf;
 }
 
-struct Pooled {
+// Point-weighted MAE and RMSE over cells.
+struct PooledError {
   double sum = 0, sum_sq = 0;
   int64_t n = 0;
-  void add(const CellSystem& s) {
-    sum += s.mae_m * static_cast<double>(s.accuracy_count);
-    sum_sq += s.rmse_m * s.rmse_m * static_cast<double>(s.accuracy_count);
-    n += s.accuracy_count;
+  void add(int64_t count, double mae, double rmse) {
+    sum += mae * static_cast<double>(count);
+    sum_sq += rmse * rmse * static_cast<double>(count);
+    n += count;
   }
   std::optional<double> mae() const { return n ? std::optional(sum / static_cast<double>(n)) : std::nullopt; }
   std::optional<double> rmse() const {
     return n ? std::optional(std::sqrt(sum_sq / static_cast<double>(n))) : std::nullopt;
   }
+};
+
+// A system's map error pooled over cells, with the SLAM poses and with the true ones.
+struct Pooled {
+  PooledError slam, truth;
+  int64_t n = 0;  // points with the SLAM poses
+  void add(const CellSystem& s) {
+    slam.add(s.accuracy_count, s.mae_m, s.rmse_m);
+    truth.add(s.true_pose_count, s.true_pose_mae_m, s.true_pose_rmse_m);
+    n = slam.n;
+  }
+  std::optional<double> mae() const { return slam.mae(); }
+  std::optional<double> rmse() const { return slam.rmse(); }
 };
 
 struct AteStats {
@@ -311,10 +330,14 @@ std::string sweep_tables_markdown(const SweepReport& r) {
     }
     md << "\n";
   }
-  md << "Mapping error (m), pooled over the " << r.cells.size() << " cells (paper Table II layout).\n\n| System | MAE | RMSE |\n|---|---|---|\n";
+  md << "Mapping error (m), pooled over the " << r.cells.size()
+     << " cells (paper Table II layout); with true poses: the same maps with every keyframe at its true pose "
+        "(what navigation leaves out; n/a without a truth stream).\n\n"
+        "| System | MAE | RMSE | MAE, true poses | RMSE, true poses |\n|---|---|---|---|---|\n";
   for (const auto& name : names) {
     const Pooled p = pooled_over_cells(r, name);
-    md << "| " << name << " | " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " |\n";
+    md << "| " << name << " | " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " | "
+       << opt_fmt("%.3f", p.truth.mae()) << " | " << opt_fmt("%.3f", p.truth.rmse()) << " |\n";
   }
   md << "\nATE per cell (m), DR / SLAM: ";
   for (const auto& c : r.cells)
@@ -352,7 +375,8 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
   j["fixture"] = fixture;
   j["cells"] = nlohmann::json::array();
   std::ostringstream csv;
-  csv << "system,distance_m,rotation_deg,coverage_voxels,mae_m,rmse_m,ate_dr_m,ate_slam_m,keyframes\n";
+  csv << "system,distance_m,rotation_deg,coverage_voxels,mae_m,rmse_m,ate_dr_m,ate_slam_m,keyframes,true_pose_mae_m,"
+         "true_pose_rmse_m\n";
   auto num = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
   for (const auto& c : r.cells)
     for (const auto& s : c.systems) {
@@ -360,12 +384,15 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
                             {"rotation_deg", c.cell.rotation_deg}, {"coverage_voxels", s.coverage_voxels},
                             {"mae_m", s.accuracy_count ? nlohmann::json(s.mae_m) : nlohmann::json(nullptr)},
                             {"rmse_m", s.accuracy_count ? nlohmann::json(s.rmse_m) : nlohmann::json(nullptr)},
+                            {"true_pose_mae_m", s.true_pose_count ? nlohmann::json(s.true_pose_mae_m) : nlohmann::json(nullptr)},
+                            {"true_pose_rmse_m", s.true_pose_count ? nlohmann::json(s.true_pose_rmse_m) : nlohmann::json(nullptr)},
                             {"ate_dr_m", num(c.ate_dr_m)}, {"ate_slam_m", num(c.ate_slam_m)},
                             {"keyframes", c.keyframes}, {"digest", c.digest}});
       csv << s.system << "," << c.cell.distance_m << "," << c.cell.rotation_deg << "," << s.coverage_voxels << ","
           << fmt("%.6f", s.mae_m) << "," << fmt("%.6f", s.rmse_m) << ","
           << (c.ate_dr_m ? fmt("%.6f", *c.ate_dr_m) : "") << "," << (c.ate_slam_m ? fmt("%.6f", *c.ate_slam_m) : "")
-          << "," << c.keyframes << "\n";
+          << "," << c.keyframes << "," << (s.true_pose_count ? fmt("%.6f", s.true_pose_mae_m) : "") << ","
+          << (s.true_pose_count ? fmt("%.6f", s.true_pose_rmse_m) : "") << "\n";
     }
   // Timings live apart (runtime.json): grid.json is the same bytes on every machine.
   auto stats = [](const mapping::RuntimeStats& s) {
@@ -490,6 +517,9 @@ nlohmann::json cell_result_to_json(const CellResult& c) {
                             {"accuracy_count", s.accuracy_count},
                             {"mae_m", s.mae_m},
                             {"rmse_m", s.rmse_m},
+                            {"true_pose_count", s.true_pose_count},
+                            {"true_pose_mae_m", s.true_pose_mae_m},
+                            {"true_pose_rmse_m", s.true_pose_rmse_m},
                             {"runtime", runtime_stats_to_json(s.runtime)}});
   return j;
 }
@@ -512,6 +542,9 @@ Result<CellResult> cell_result_from_json(const nlohmann::json& j) {
       s.accuracy_count = sj.at("accuracy_count").get<int64_t>();
       s.mae_m = sj.at("mae_m").get<double>();
       s.rmse_m = sj.at("rmse_m").get<double>();
+      s.true_pose_count = sj.value("true_pose_count", int64_t{0});  // absent in results before 2026-12-03
+      s.true_pose_mae_m = sj.value("true_pose_mae_m", 0.0);
+      s.true_pose_rmse_m = sj.value("true_pose_rmse_m", 0.0);
       s.runtime = runtime_stats_from_json(sj.value("runtime", nlohmann::json()));
       c.systems.push_back(std::move(s));
     }
@@ -577,17 +610,21 @@ SeedSummary summarise_seeds(const std::vector<SweepReport>& reports) {
 
 std::string seeds_markdown(const SeedSummary& sum, const std::vector<uint64_t>& seeds) {
   std::ostringstream md;
-  md << "# Sweep over seeds\n\nEach system's MAE / RMSE (m) pooled over the cells run; ATE: median SLAM/DR ratio and "
-        "the share of cells where SLAM ATE <= DR ATE.\n";
-  auto cells = [&](const Pooled& p) { md << " " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " |"; };
+  md << "# Sweep over seeds\n\nEach system's MAE / RMSE (m) pooled over the cells run, then the same with every "
+        "keyframe at its true pose (n/a without a truth stream); ATE: median SLAM/DR ratio and the share of cells "
+        "where SLAM ATE <= DR ATE.\n";
+  auto cells = [&](const Pooled& p) {
+    md << " " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " | " << opt_fmt("%.3f", p.truth.mae())
+       << " / " << opt_fmt("%.3f", p.truth.rmse()) << " |";
+  };
   auto ate = [&](const AteStats& a) {
     md << " " << opt_fmt("%.2f", a.median()) << " | " << a.slam_le_dr << "/" << a.cells << " |\n";
   };
   for (const auto& sc : sum.scenes) {
     md << "\n## " << sc.scene << "\n\n| Seed |";
-    for (const auto& n : sc.names) md << " " << n << " MAE | " << n << " RMSE |";
+    for (const auto& n : sc.names) md << " " << n << " MAE | " << n << " RMSE | " << n << " true poses |";
     md << " SLAM/DR median | SLAM <= DR |\n|---|";
-    for (size_t i = 0; i < sc.names.size(); ++i) md << "---|---|";
+    for (size_t i = 0; i < sc.names.size(); ++i) md << "---|---|---|";
     md << "---|---|\n";
     for (const size_t k : sc.reports) {
       md << "| " << seeds[k] << " |";
@@ -609,7 +646,11 @@ std::string seeds_markdown(const SeedSummary& sum, const std::vector<uint64_t>& 
 }
 
 nlohmann::json pooled_json(const Pooled& p) {
-  return {{"mae_m", opt_json(p.mae())}, {"rmse_m", opt_json(p.rmse())}, {"points", p.n}};
+  return {{"mae_m", opt_json(p.mae())},
+          {"rmse_m", opt_json(p.rmse())},
+          {"points", p.n},
+          {"true_pose_mae_m", opt_json(p.truth.mae())},
+          {"true_pose_rmse_m", opt_json(p.truth.rmse())}};
 }
 
 nlohmann::json ate_json(const AteStats& a) {

@@ -56,6 +56,10 @@ struct CellSystem {
   int64_t coverage_voxels = 0;
   int64_t accuracy_count = 0;
   double mae_m = 0.0, rmse_m = 0.0;
+  // The same map with the keyframes at their true poses (SystemOutput::true_pose_accuracy);
+  // count 0 when unknown.
+  int64_t true_pose_count = 0;
+  double true_pose_mae_m = 0.0, true_pose_rmse_m = 0.0;
   mapping::RuntimeStats runtime;  // the system's own stage (map update / submap construction)
 };
 struct CellResult {

@@ -22,7 +22,13 @@ CellResult make_cell(double d, double r, double mae, double rmse, int64_t n, dou
   c.ate_dr_m = dr;
   c.ate_slam_m = slam;
   c.digest = "abc";
-  c.systems.push_back({"fusion", 100, n, mae, rmse, {}});
+  CellSystem s;
+  s.system = "fusion";
+  s.coverage_voxels = 100;
+  s.accuracy_count = n;
+  s.mae_m = mae;
+  s.rmse_m = rmse;
+  c.systems.push_back(s);
   return c;
 }
 
@@ -75,9 +81,18 @@ TEST_CASE("a cell's result survives JSON exactly (doubles bit for bit)", "[sweep
     c.slam_runtime.count = 3;
     c.slam_runtime.sum_ms = *any_double;
     const int n = *rc::gen::inRange(0, 4);
-    for (int k = 0; k < n; ++k)
-      c.systems.push_back({"s" + std::to_string(k), *rc::gen::arbitrary<int64_t>(), *rc::gen::inRange<int64_t>(0, 1 << 30),
-                           *any_double, *any_double, {}});
+    for (int k = 0; k < n; ++k) {
+      CellSystem s;
+      s.system = "s" + std::to_string(k);
+      s.coverage_voxels = *rc::gen::arbitrary<int64_t>();
+      s.accuracy_count = *rc::gen::inRange<int64_t>(0, 1 << 30);
+      s.mae_m = *any_double;
+      s.rmse_m = *any_double;
+      s.true_pose_count = *rc::gen::inRange<int64_t>(0, 1 << 30);
+      s.true_pose_mae_m = *any_double;
+      s.true_pose_rmse_m = *any_double;
+      c.systems.push_back(s);
+    }
     const std::string text = cell_result_to_json(c).dump();
     auto back = cell_result_from_json(nlohmann::json::parse(text));
     RC_ASSERT(back.ok());
@@ -95,6 +110,9 @@ TEST_CASE("a cell's result survives JSON exactly (doubles bit for bit)", "[sweep
       RC_ASSERT(back->systems[k].accuracy_count == c.systems[k].accuracy_count);
       RC_ASSERT(same_bits(back->systems[k].mae_m, c.systems[k].mae_m));
       RC_ASSERT(same_bits(back->systems[k].rmse_m, c.systems[k].rmse_m));
+      RC_ASSERT(back->systems[k].true_pose_count == c.systems[k].true_pose_count);
+      RC_ASSERT(same_bits(back->systems[k].true_pose_mae_m, c.systems[k].true_pose_mae_m));
+      RC_ASSERT(same_bits(back->systems[k].true_pose_rmse_m, c.systems[k].true_pose_rmse_m));
     }
   });
 }

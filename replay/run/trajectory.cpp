@@ -3,6 +3,9 @@
 #include <cinttypes>
 #include <cstdio>
 #include <fstream>
+#include <optional>
+
+#include "core/mapping/metrics.hpp"
 
 namespace orthosonar::run {
 namespace {
@@ -109,6 +112,41 @@ std::string keyframe_table_csv(const slam::KeyframeSlam& slam) {
 
 Status write_keyframe_table(const std::string& path, const slam::KeyframeSlam& slam) {
   return write_text(path, keyframe_table_csv(slam));
+}
+
+std::string factor_table_csv(const slam::KeyframeSlam& slam, const std::vector<TruthPose>& truth) {
+  std::string out =
+      "kind,from,to,x,y,theta,sigma_x,sigma_y,sigma_theta,weakened,accepted,robust_weight,reason,true_x,true_y,"
+      "true_theta,err_x,err_y,err_theta\n";
+  const auto& kfs = slam.keyframes();
+  std::vector<std::optional<SE2>> T_true(kfs.size());
+  for (size_t k = 0; k < kfs.size(); ++k)
+    if (const auto T = mapping::truth_pose_at(truth, kfs[k].stamp)) T_true[k] = se2_from_se3(*T);
+  auto known = [&](int id) { return id >= 0 && static_cast<size_t>(id) < T_true.size() && T_true[id].has_value(); };
+  char buf[512];
+  for (const auto& f : slam.factors()) {
+    std::string reason = f.reason;
+    for (char& c : reason)
+      if (c == ',' || c == '\n' || c == '"') c = ';';  // one CSV field, no quoting needed
+    std::snprintf(buf, sizeof buf, "%s,%d,%d,%.6f,%.6f,%.9f,%.6g,%.6g,%.6g,%d,%d,%.6f,", slam::factor_kind_name(f.kind),
+                  f.from, f.to, f.T_from_to.x, f.T_from_to.y, f.T_from_to.theta, f.sigma.x(), f.sigma.y(), f.sigma.z(),
+                  f.weakened, f.accepted ? 1 : 0, f.robust_weight);
+    out += buf + reason;
+    if (f.kind != slam::FactorKind::kPrior && known(f.from) && known(f.to)) {
+      const SE2 z = T_true[static_cast<size_t>(f.from)]->inverse() * *T_true[static_cast<size_t>(f.to)];
+      std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.9f,%.6f,%.6f,%.9f\n", z.x, z.y, z.theta, f.T_from_to.x - z.x,
+                    f.T_from_to.y - z.y, wrap_angle(f.T_from_to.theta - z.theta));
+      out += buf;
+    } else {
+      out += ",,,,,,\n";
+    }
+  }
+  return out;
+}
+
+Status write_factor_table(const std::string& path, const slam::KeyframeSlam& slam,
+                          const std::vector<TruthPose>& truth) {
+  return write_text(path, factor_table_csv(slam, truth));
 }
 
 }  // namespace orthosonar::run

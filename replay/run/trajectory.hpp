@@ -37,4 +37,15 @@ std::vector<StampedPose> keyframe_poses_slam(const slam::KeyframeSlam& slam);
 std::string keyframe_table_csv(const slam::KeyframeSlam& slam);
 Status write_keyframe_table(const std::string& path, const slam::KeyframeSlam& slam);
 
+// factors.csv: one row per SLAM factor, in creation order; header
+//   kind,from,to,x,y,theta,sigma_x,sigma_y,sigma_theta,weakened,accepted,robust_weight,reason,
+//   true_x,true_y,true_theta,err_x,err_y,err_theta
+// (x, y, theta: the measured relative pose from -> to in the `from` keyframe's plane frame,
+// metres and radians; the true_ and err_ columns (measured - true, theta wrapped) are
+// filled when `truth` spans both keyframes, else empty; the prior's are always empty).
+// Shows each scan match's bias against the simulator's truth.
+std::string factor_table_csv(const slam::KeyframeSlam& slam, const std::vector<TruthPose>& truth);
+Status write_factor_table(const std::string& path, const slam::KeyframeSlam& slam,
+                          const std::vector<TruthPose>& truth);
+
 }  // namespace orthosonar::run
