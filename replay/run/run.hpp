@@ -123,7 +123,7 @@ struct SystemOutput {
   int64_t coverage_voxels = 0;
   std::optional<mapping::AccuracyStats> accuracy;  // when a mesh is known
   // The same map with every keyframe at its true pose (MappingSystem::map_points_W_with):
-  // the map error navigation leaves out. When a mesh is known, the truth stream spans
+  // the map error perception alone leaves. When a mesh is known, the truth stream spans
   // every keyframe and the system follows keyframe poses (fusion, submap).
   std::optional<mapping::AccuracyStats> true_pose_accuracy;
   std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime;

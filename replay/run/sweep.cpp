@@ -332,7 +332,7 @@ std::string sweep_tables_markdown(const SweepReport& r) {
   }
   md << "Mapping error (m), pooled over the " << r.cells.size()
      << " cells (paper Table II layout); with true poses: the same maps with every keyframe at its true pose "
-        "(what navigation leaves out; n/a without a truth stream).\n\n"
+        "(the error perception alone leaves; n/a without a truth stream).\n\n"
         "| System | MAE | RMSE | MAE, true poses | RMSE, true poses |\n|---|---|---|---|---|\n";
   for (const auto& name : names) {
     const Pooled p = pooled_over_cells(r, name);
