@@ -249,11 +249,9 @@ struct PooledError {
 // A system's map error pooled over cells, with the SLAM poses and with the true ones.
 struct Pooled {
   PooledError slam, truth;
-  int64_t n = 0;  // points with the SLAM poses
   void add(const CellSystem& s) {
     slam.add(s.accuracy_count, s.mae_m, s.rmse_m);
     truth.add(s.true_pose_count, s.true_pose_mae_m, s.true_pose_rmse_m);
-    n = slam.n;
   }
   std::optional<double> mae() const { return slam.mae(); }
   std::optional<double> rmse() const { return slam.rmse(); }
@@ -648,7 +646,7 @@ std::string seeds_markdown(const SeedSummary& sum, const std::vector<uint64_t>& 
 nlohmann::json pooled_json(const Pooled& p) {
   return {{"mae_m", opt_json(p.mae())},
           {"rmse_m", opt_json(p.rmse())},
-          {"points", p.n},
+          {"points", p.slam.n},
           {"true_pose_mae_m", opt_json(p.truth.mae())},
           {"true_pose_rmse_m", opt_json(p.truth.rmse())}};
 }
