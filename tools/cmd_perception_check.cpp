@@ -36,6 +36,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/mapping/mesh_distance.hpp"
+#include "core/mapping/metrics.hpp"
 #include "core/perception/fusion.hpp"
 #include "core/perception/pairing.hpp"
 #include "core/result.hpp"
@@ -46,7 +47,6 @@
 #include "hal/sim/simulator.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_oculus_ping_file.hpp"
 #include "tools/support_oculus_ping_file.hpp"
 #include "tools/support_run_args.hpp"
 
@@ -360,10 +360,7 @@ Status measure(hal::EventSource& src, const perception::FusionConfig& cfg, const
       labels[{l->mount == SonarMount::kHorizontal ? 0 : 1, l->ping_id}] = std::move(l->semantic);
     } else if (auto* tp = std::get_if<TruthPose>(&p.event->payload)) {
       ++truth_events;
-      SE3 T = SE3::Identity();
-      T.linear() = tp->q_W_V.normalized().toRotationMatrix();
-      T.translation() = tp->p_W;
-      truth[tp->stamp.ns()] = T;
+      truth[tp->stamp.ns()] = mapping::truth_pose(*tp);
     } else if (auto* ping = std::get_if<SonarPing>(&p.event->payload)) {
       pairer.push(std::move(*ping));
     }

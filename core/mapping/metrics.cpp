@@ -74,32 +74,46 @@ AccuracyStats accuracy(const std::vector<Eigen::Vector3f>& points, const MeshDis
   return s;
 }
 
-std::optional<Vec3> truth_position_at(const std::vector<TruthPose>& truth, Time t) {
+SE3 truth_pose(const TruthPose& p) {
+  SE3 T = SE3::Identity();
+  T.linear() = p.q_W_V.normalized().toRotationMatrix();
+  T.translation() = p.p_W;
+  return T;
+}
+
+namespace {
+
+// The truth poses either side of `t` and t's fraction of the way from a to b (a == b when a
+// truth pose has t's stamp); nullopt outside their span.
+struct TruthBracket {
+  const TruthPose* a;
+  const TruthPose* b;
+  double s;
+};
+std::optional<TruthBracket> truth_bracket(const std::vector<TruthPose>& truth, Time t) {
   if (truth.empty() || t < truth.front().stamp || t > truth.back().stamp) return std::nullopt;
   const auto it = std::lower_bound(truth.begin(), truth.end(), t,
                                    [](const TruthPose& p, Time s) { return p.stamp < s; });
-  if (it->stamp == t) return it->p_W;
+  if (it->stamp == t) return TruthBracket{&*it, &*it, 0.0};
   const TruthPose& b = *it;
   const TruthPose& a = *(it - 1);
-  const double s = static_cast<double>((t - a.stamp).ns()) / static_cast<double>((b.stamp - a.stamp).ns());
-  return Vec3(a.p_W + s * (b.p_W - a.p_W));
+  return TruthBracket{&a, &b, static_cast<double>((t - a.stamp).ns()) / static_cast<double>((b.stamp - a.stamp).ns())};
+}
+
+}  // namespace
+
+std::optional<Vec3> truth_position_at(const std::vector<TruthPose>& truth, Time t) {
+  const auto br = truth_bracket(truth, t);
+  if (!br) return std::nullopt;
+  if (br->a == br->b) return br->a->p_W;
+  return Vec3(br->a->p_W + br->s * (br->b->p_W - br->a->p_W));
 }
 
 std::optional<SE3> truth_pose_at(const std::vector<TruthPose>& truth, Time t) {
-  if (truth.empty() || t < truth.front().stamp || t > truth.back().stamp) return std::nullopt;
-  const auto it = std::lower_bound(truth.begin(), truth.end(), t,
-                                   [](const TruthPose& p, Time s) { return p.stamp < s; });
-  auto pose = [](const TruthPose& p) {
-    SE3 T = SE3::Identity();
-    T.linear() = p.q_W_V.normalized().toRotationMatrix();
-    T.translation() = p.p_W;
-    return T;
-  };
-  if (it->stamp == t) return pose(*it);
-  const TruthPose& b = *it;
-  const TruthPose& a = *(it - 1);
-  const double s = static_cast<double>((t - a.stamp).ns()) / static_cast<double>((b.stamp - a.stamp).ns());
-  return interpolate(pose(a), pose(b), s);
+  const auto br = truth_bracket(truth, t);
+  if (!br) return std::nullopt;
+  if (br->a == br->b) return truth_pose(*br->a);
+  return interpolate(truth_pose(*br->a), truth_pose(*br->b), br->s);
 }
 
 std::optional<double> absolute_trajectory_error(const std::vector<StampedPosition>& estimate,

@@ -39,6 +39,8 @@ struct StampedPosition {
   Time stamp;
   Vec3 p_W = Vec3::Zero();
 };
+// A truth pose as T_W_V (through the rotation matrix of its normalised quaternion).
+SE3 truth_pose(const TruthPose& p);
 // Ground truth p_W at `t`, linearly interpolated between the neighbouring truth poses
 // (sorted by stamp); nullopt outside their span.
 std::optional<Vec3> truth_position_at(const std::vector<TruthPose>& truth, Time t);

@@ -66,10 +66,7 @@ Status write_tum(const std::string& path, const std::vector<TruthPose>& truth) {
   if (!f) return Error{"cannot open '" + path + "' for writing"};
   for (const auto& t : truth) {
     // Through the rotation matrix, as every TUM file is written (same digits).
-    SE3 T = SE3::Identity();
-    T.linear() = t.q_W_V.normalized().toRotationMatrix();
-    T.translation() = t.p_W;
-    f << tum_line(t.stamp, T) << '\n';
+    f << tum_line(t.stamp, mapping::truth_pose(t)) << '\n';
   }
   f.close();
   if (!f) return Error{"cannot write '" + path + "'"};
