@@ -197,6 +197,13 @@ std::string check_type(Role role, const std::string& type) {
   return "";
 }
 
+// A decoded number for an error message: any double, never cast to an integer.
+std::string import_number_text(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
 // Field access with errors naming the field.
 struct Fields {
   const Value& root;
@@ -212,9 +219,33 @@ struct Fields {
     if ((*v)->kind() != Value::Kind::kNumber) return Error{at + ": field '" + std::string(path) + "' is not a number"};
     return (*v)->as_double();
   }
-  Result<Vec3> vec3(std::string_view path) const {
+  bool has_number(std::string_view path) const {
+    const Value* v = root.find(path);
+    return v != nullptr && v->kind() == Value::Kind::kNumber;
+  }
+  // A number that must be finite (a file's own definition may make any field a float).
+  Result<double> finite(std::string_view path) const {
+    auto v = num(path);
+    if (!v) return v.error();
+    if (!std::isfinite(*v))
+      return Error{at + ": field '" + std::string(path) + "' is " + import_number_text(*v) + ", not a finite number"};
+    return *v;
+  }
+  // An integer field checked against [lo, hi] before any cast (NaN and out-of-range values
+  // make a double -> integer conversion undefined).
+  Result<int64_t> integer(std::string_view path, int64_t lo, int64_t hi) const {
+    auto v = num(path);
+    if (!v) return v.error();
+    if (!(*v >= static_cast<double>(lo) && *v <= static_cast<double>(hi)))
+      return Error{at + ": field '" + std::string(path) + "' is " + import_number_text(*v) + ", outside " +
+                   std::to_string(lo) + ".." + std::to_string(hi)};
+    return static_cast<int64_t>(*v);
+  }
+  // Finite components unless `any_value` (a DVL marks a bad velocity with NaN).
+  Result<Vec3> vec3(std::string_view path, bool any_value = false) const {
     const std::string p(path);
-    auto x = num(p + ".x"), y = num(p + ".y"), z = num(p + ".z");
+    auto get_one = [&](const std::string& q) { return any_value ? num(q) : finite(q); };
+    auto x = get_one(p + ".x"), y = get_one(p + ".y"), z = get_one(p + ".z");
     if (!x) return x.error();
     if (!y) return y.error();
     if (!z) return z.error();
@@ -222,7 +253,7 @@ struct Fields {
   }
   Result<Quat> quat(std::string_view path) const {
     const std::string p(path);
-    auto w = num(p + ".w");
+    auto w = finite(p + ".w");
     if (!w) return w.error();
     auto v = vec3(path);
     if (!v) return v.error();
@@ -247,6 +278,45 @@ double oculus_frequency(uint16_t part, int mode) {
   return high ? 1.2e6 : 750e3;  // M750d and unknown parts
 }
 
+// A compressed ping holds at most this many pixels (an M1200d's 512 beams x 2000 ranges is
+// a sixteenth of it); the decoder allocates what the image's header states.
+constexpr uint64_t kImportMaxImagePixels = uint64_t{1} << 24;
+
+// Rows and columns stated by a PNG's IHDR or a JPEG's first frame header (SOFn), the header
+// cv::imdecode sizes its image by; nullopt when the bytes are neither or the header is cut.
+std::optional<std::pair<uint32_t, uint32_t>> import_image_size(const uint8_t* d, size_t n) {
+  auto be16 = [&](size_t at) { return static_cast<uint32_t>(d[at]) << 8 | d[at + 1]; };
+  auto be32 = [&](size_t at) { return be16(at) << 16 | be16(at + 2); };
+  static constexpr uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (n >= 24 && std::memcmp(d, kPng, 8) == 0) {
+    if (std::memcmp(d + 12, "IHDR", 4) != 0) return std::nullopt;
+    return std::pair{be32(20), be32(16)};  // height, width
+  }
+  if (n < 4 || d[0] != 0xFF || d[1] != 0xD8) return std::nullopt;
+  // Marker segments up to the first SOFn (C0..CF except DHT C4, JPG C8, DAC CC).
+  for (size_t at = 2; at + 1 < n;) {
+    if (d[at] != 0xFF) return std::nullopt;
+    const uint8_t marker = d[at + 1];
+    if (marker == 0xFF) {  // fill byte
+      ++at;
+      continue;
+    }
+    if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) {  // no length
+      at += 2;
+      continue;
+    }
+    if (marker == 0xD9 || marker == 0xDA || at + 4 > n) return std::nullopt;  // EOI or scan data before a frame
+    const size_t len = be16(at + 2);
+    if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
+      if (len < 7 || at + 9 > n) return std::nullopt;
+      return std::pair{be16(at + 5), be16(at + 7)};  // height, width
+    }
+    if (len < 2) return std::nullopt;
+    at += 2 + len;
+  }
+  return std::nullopt;
+}
+
 void copy_image(SonarPing& p, const uint8_t* data, size_t step, uint32_t height, uint32_t width, int bpp,
                   bool big_endian) {
   p.bytes_per_pixel = static_cast<uint8_t>(bpp);
@@ -265,22 +335,33 @@ Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool co
   const uint16_t default_part = p.mount == SonarMount::kVertical ? kPartM1200d : kPartM750d;
   p.part_number = rule.part_number != 0 ? rule.part_number
                   : (part && *part > 0 && *part <= 65535) ? static_cast<uint16_t>(*part) : default_part;
-  auto ping_id = f.num("ping_id");
+  auto ping_id = f.integer("ping_id", 0, UINT32_MAX);
   if (!ping_id) return ping_id.error();
   p.ping_id = static_cast<uint32_t>(*ping_id);
   auto res = f.num("range_resolution");
   if (!res) return res.error();
   if (!(*res > 0) || !std::isfinite(*res)) return Error{f.at + ": range_resolution " + std::to_string(*res) + " m is not positive"};
   p.range_resolution_m = *res;
-  auto gain = f.num("fire_msg.gain");
-  p.gain_percent = gain ? *gain : 0.0;
-  auto mode = f.num("fire_msg.mode");
-  p.frequency_hz = oculus_frequency(p.part_number, mode ? static_cast<int>(*mode) : 1);
+  // Optional fields: absent is a default, present must be a finite (mode: 0..255) number.
+  p.gain_percent = 0.0;
+  if (f.has_number("fire_msg.gain")) {
+    auto gain = f.finite("fire_msg.gain");
+    if (!gain) return gain.error();
+    p.gain_percent = *gain;
+  }
+  int mode = 1;
+  if (f.has_number("fire_msg.mode")) {
+    auto m = f.integer("fire_msg.mode", 0, 255);
+    if (!m) return m.error();
+    mode = static_cast<int>(*m);
+  }
+  p.frequency_hz = oculus_frequency(p.part_number, mode);
   auto nr = f.num("num_ranges"), nb = f.num("num_beams");
   if (!nr) return nr.error();
   if (!nb) return nb.error();
-  if (*nr < 1 || *nr > 65535 || *nb < 2 || *nb > 65535)
-    return Error{f.at + ": num_ranges " + std::to_string(*nr) + " x num_beams " + std::to_string(*nb) +
+  // Written so that NaN fails it too.
+  if (!(*nr >= 1 && *nr <= 65535 && *nb >= 2 && *nb <= 65535))
+    return Error{f.at + ": num_ranges " + import_number_text(*nr) + " x num_beams " + import_number_text(*nb) +
                  " is not an image (1..65535 x 2..65535)"};
   p.rows = static_cast<uint16_t>(*nr);
   p.cols = static_cast<uint16_t>(*nb);
@@ -290,7 +371,12 @@ Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool co
   if (centi.size() != p.cols)
     return Error{f.at + ": " + std::to_string(centi.size()) + " bearings for num_beams " + std::to_string(p.cols)};
   p.bearings_rad.reserve(centi.size());
-  for (double c : centi) {
+  for (size_t i = 0; i < centi.size(); ++i) {
+    const double c = centi[i];
+    // int16 as the device sends them; a file's own definition may make them anything.
+    if (!(std::abs(c) <= 36000.0))
+      return Error{f.at + ": field 'bearings[" + std::to_string(i) + "]' is " + import_number_text(c) +
+                   " (1/100 degree), outside -36000..36000"};
     // The device's table: int16, 1/100 degree (the same arithmetic as every other reader).
     const double rad = c * 0.01 * kDegree;
     p.bearings_rad.push_back(rule.flip_bearings ? -rad : rad);
@@ -303,6 +389,19 @@ Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool co
     if (!data) return data.error();
     const auto bytes = (*data)->bytes();
     if (bytes.empty()) return Error{f.at + ": ping.data is empty"};
+    auto format = fi.get("format");
+    const std::string fmt = format ? (*format)->as_string() : "";
+    // The size the image's header states, checked before decoding: a few hundred bytes of
+    // JPEG can state 65535 x 65535 pixels, and imdecode allocates what the header says.
+    const auto stated = import_image_size(bytes.data(), bytes.size());
+    if (!stated)
+      return Error{f.at + ": ping.data (format '" + fmt + "') is neither a JPEG nor a PNG image (no size in its header)"};
+    if (stated->first != p.rows || stated->second != p.cols)
+      return Error{f.at + ": the image is " + std::to_string(stated->first) + " x " + std::to_string(stated->second) +
+                   " but num_ranges x num_beams is " + std::to_string(p.rows) + " x " + std::to_string(p.cols)};
+    if (static_cast<uint64_t>(p.rows) * p.cols > kImportMaxImagePixels)
+      return Error{f.at + ": the image is " + std::to_string(p.rows) + " x " + std::to_string(p.cols) + ", more than " +
+                   std::to_string(kImportMaxImagePixels) + " pixels"};
     const cv::Mat buf(1, static_cast<int>(bytes.size()), CV_8U, const_cast<uint8_t*>(bytes.data()));
     cv::Mat m;
     try {
@@ -310,8 +409,6 @@ Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool co
     } catch (const cv::Exception&) {
       m.release();
     }
-    auto format = fi.get("format");
-    const std::string fmt = format ? (*format)->as_string() : "";
     if (m.empty()) return Error{f.at + ": ping.data (format '" + fmt + "') does not decode as an image"};
     if (m.rows != p.rows || m.cols != p.cols)
       return Error{f.at + ": the image is " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
@@ -332,15 +429,15 @@ Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool co
   const std::string e = (*enc)->as_string();
   const int bpp = (e == "mono8" || e == "8UC1") ? 1 : (e == "mono16" || e == "16UC1") ? 2 : 0;
   if (bpp == 0) return Error{f.at + ": ping.encoding '" + e + "' (mono8, 8UC1, mono16 or 16UC1 expected)"};
-  if (*height != p.rows || *width != p.cols)
-    return Error{f.at + ": the image is " + std::to_string(static_cast<int64_t>(*height)) + " x " +
-                 std::to_string(static_cast<int64_t>(*width)) + " but num_ranges x num_beams is " +
-                 std::to_string(p.rows) + " x " + std::to_string(p.cols)};
+  if (*height != p.rows || *width != p.cols)  // NaN too
+    return Error{f.at + ": the image is " + import_number_text(*height) + " x " + import_number_text(*width) +
+                 " but num_ranges x num_beams is " + std::to_string(p.rows) + " x " + std::to_string(p.cols)};
   const auto bytes = (*data)->bytes();
   const auto row = static_cast<double>(p.cols) * bpp;
-  if (*step < row || static_cast<double>(bytes.size()) < *step * (p.rows - 1) + row)
+  // Written so that a NaN or infinite step fails it: the cast below needs step <= bytes.
+  if (!(*step >= row && static_cast<double>(bytes.size()) >= *step * (p.rows - 1) + row))
     return Error{f.at + ": ping.data has " + std::to_string(bytes.size()) + " bytes, too few for " +
-                 std::to_string(p.rows) + " rows of step " + std::to_string(static_cast<int64_t>(*step))};
+                 std::to_string(p.rows) + " rows of step " + import_number_text(*step)};
   copy_image(p, bytes.data(), static_cast<size_t>(*step), p.rows, p.cols, bpp, be && *be != 0);
   return p;
 }
@@ -351,15 +448,23 @@ Result<SonarPing> convert_projected(const Fields& f, const TopicRule& rule) {
   p.device_id = rule.device_id;
   p.part_number = rule.part_number != 0 ? rule.part_number
                                         : (p.mount == SonarMount::kVertical ? kPartM1200d : kPartM750d);
-  auto freq = f.num("ping_info.frequency");
-  p.frequency_hz = freq ? *freq : 0.0;
+  p.frequency_hz = 0.0;
+  if (f.has_number("ping_info.frequency")) {
+    auto freq = f.finite("ping_info.frequency");
+    if (!freq) return freq.error();
+    p.frequency_hz = *freq;
+  }
   auto dirs = f.get("beam_directions");
   if (!dirs) return dirs.error();
-  for (const Value& d : (*dirs)->elements()) {
+  for (size_t i = 0; i < (*dirs)->elements().size(); ++i) {
+    const Value& d = (*dirs)->elements()[i];
     const Value* x = d.find("x");
     const Value* y = d.find("y");
     const Value* z = d.find("z");
     if (x == nullptr || y == nullptr || z == nullptr) return Error{f.at + ": beam_directions element without x, y, z"};
+    for (const Value* c : {x, y, z})
+      if (c->kind() != Value::Kind::kNumber || !std::isfinite(c->as_double()))
+        return Error{f.at + ": field 'beam_directions[" + std::to_string(i) + "]' is not three finite numbers"};
     // Fan in the sensor's Y-Z plane, Z forward, X up: azimuth about X, positive to the left.
     const double b = std::atan2(-y->as_double(), z->as_double());
     p.bearings_rad.push_back(rule.flip_bearings ? -b : b);
@@ -367,6 +472,10 @@ Result<SonarPing> convert_projected(const Fields& f, const TopicRule& rule) {
   auto ranges_v = f.get("ranges");
   if (!ranges_v) return ranges_v.error();
   const std::vector<double> ranges = (*ranges_v)->as_doubles();
+  for (size_t i = 0; i < ranges.size(); ++i)
+    if (!std::isfinite(ranges[i]))
+      return Error{f.at + ": field 'ranges[" + std::to_string(i) + "]' is " + import_number_text(ranges[i]) +
+                   ", not a finite number"};
   if (ranges.size() < 2 || ranges.size() > 65535 || p.bearings_rad.size() < 2 || p.bearings_rad.size() > 65535)
     return Error{f.at + ": " + std::to_string(ranges.size()) + " ranges x " + std::to_string(p.bearings_rad.size()) +
                  " beam_directions is not an image (2..65535 each)"};
@@ -383,14 +492,16 @@ Result<SonarPing> convert_projected(const Fields& f, const TopicRule& rule) {
   auto data = f.get("image.data");
   if (!dtype) return dtype.error();
   if (!data) return data.error();
-  if (count && *count != p.cols)
-    return Error{f.at + ": image.beam_count " + std::to_string(static_cast<int64_t>(*count)) + " but " +
-                 std::to_string(p.cols) + " beam_directions"};
+  if (count && *count != p.cols)  // NaN too
+    return Error{f.at + ": image.beam_count " + import_number_text(*count) + " but " + std::to_string(p.cols) +
+                 " beam_directions"};
   const auto bytes = (*data)->bytes();
   const size_t n = static_cast<size_t>(p.rows) * p.cols;
+  // Checked before the cast (NaN or a huge dtype would make it undefined).
+  if (!(*dtype >= 0 && *dtype <= 9))
+    return Error{f.at + ": image.dtype " + import_number_text(*dtype) + " is not one of 0..9"};
   const int dt = static_cast<int>(*dtype);
   const size_t size = dt == 0 || dt == 1 ? 1 : dt == 2 || dt == 3 ? 2 : dt == 4 || dt == 5 || dt == 8 ? 4 : 8;
-  if (dt < 0 || dt > 9) return Error{f.at + ": image.dtype " + std::to_string(dt) + " is not one of 0..9"};
   if (bytes.size() != n * size)
     return Error{f.at + ": image.data has " + std::to_string(bytes.size()) + " bytes; " + std::to_string(p.rows) +
                  " ranges x " + std::to_string(p.cols) + " beams of dtype " + std::to_string(dt) + " need " +
@@ -421,7 +532,8 @@ Result<SonarPing> convert_projected(const Fields& f, const TopicRule& rule) {
     const double scale = mx <= 1.0 ? 255.0 : 1.0;
     p.bytes_per_pixel = 1;
     p.image.resize(n);
-    for (size_t i = 0; i < n; ++i) p.image[i] = static_cast<uint8_t>(std::clamp(std::lround(v[i] * scale), 0L, 255L));
+    // Clamped before rounding: lround of a value beyond long's range is unspecified.
+    for (size_t i = 0; i < n; ++i) p.image[i] = static_cast<uint8_t>(std::lround(std::clamp(v[i] * scale, 0.0, 255.0)));
     return p;
   }
   return Error{f.at + ": image.dtype " + std::to_string(dt) + " (uint8 0, uint16 2, float32 8 and float64 9 are read)"};
@@ -454,6 +566,9 @@ Result<Payload> convert(Kind kind, const Value& msg, const TopicRule& rule, int6
       if (q->coeffs().squaredNorm() < 0.25 || (!c.empty() && c[0] == -1.0))
         return Error{at + ": orientation unknown (a zero quaternion or orientation_covariance[0] = -1); "
                           "the pipeline needs the IMU's orientation"};
+      if (q->coeffs().squaredNorm() > 4.0)
+        return Error{at + ": field 'orientation' has norm " + import_number_text(q->coeffs().norm()) +
+                     ", not a rotation (a unit quaternion)"};
       r.q_W_V = ned ? ned_frd_to_enu_flu(*q) : *q;
       r.angular_velocity_V = ned ? frd_to_flu(*w) : *w;
       r.linear_acceleration_V = ned ? frd_to_flu(*a) : *a;
@@ -465,7 +580,7 @@ Result<Payload> convert(Kind kind, const Value& msg, const TopicRule& rule, int6
       DvlReading r;
       r.stamp = t;
       const char* path = kind == Kind::kRtiDvl ? "velocity" : kind == Kind::kTwistCov ? "twist.twist.linear" : "twist.linear";
-      auto v = f.vec3(path);
+      auto v = f.vec3(path, true);
       if (!v) return v.error();
       // Invalid: not finite, or the DVL's "bad velocity" marker (RTI: 88.888).
       r.valid = v->allFinite() && v->cwiseAbs().maxCoeff() < 50.0;
@@ -508,6 +623,9 @@ Result<Payload> convert(Kind kind, const Value& msg, const TopicRule& rule, int6
       auto q = f.quat(base + ".orientation");
       if (!p) return p.error();
       if (!q) return q.error();
+      if (!(q->coeffs().squaredNorm() >= 0.25 && q->coeffs().squaredNorm() <= 4.0))
+        return Error{at + ": field '" + base + ".orientation' has norm " + import_number_text(q->coeffs().norm()) +
+                     ", not a rotation (a unit quaternion)"};
       r.p_W = ned ? ned_to_enu(*p) : *p;
       r.q_W_V = ned ? ned_frd_to_enu_flu(*q) : *q;
       return Payload(r);
@@ -526,6 +644,20 @@ struct ChannelState {
   bool header_first = false;        // the root's first field is a std_msgs/Header
   uint64_t index = 0;               // messages seen on this channel (this pass)
 };
+
+// Whether the file's own std_msgs/Header is laid out as fast_header_stamp reads it: ros1
+// `uint32 seq` then `time stamp`; CDR `builtin_interfaces/Time stamp` first. Another
+// layout (a ROS 2 Header in a ros1-encoded file, a definition of its own) is decoded.
+bool import_standard_header(const rosmsg::Schema& schema, rosmsg::Encoding encoding) {
+  const rosmsg::MsgSpec* h = schema.find("std_msgs/Header");
+  if (h == nullptr) return false;
+  const auto& f = h->fields;
+  auto is_stamp = [](const rosmsg::Field& x) { return x.prim == rosmsg::Prim::kTime && x.array < 0; };
+  if (encoding == rosmsg::Encoding::kRos1)
+    return f.size() >= 2 && f[0].array < 0 && (f[0].prim == rosmsg::Prim::kUint32 || f[0].prim == rosmsg::Prim::kInt32) &&
+           is_stamp(f[1]) && f[1].name == "stamp";
+  return !f.empty() && is_stamp(f[0]) && f[0].name == "stamp";
+}
 
 // The header stamp read straight from the bytes when the root starts with a Header.
 std::optional<int64_t> fast_header_stamp(const ChannelState& c, const SrcMessage& m) {
@@ -592,7 +724,8 @@ struct Resolver {
         }
         const auto& fields = c.schema->find(c.schema->root())->fields;
         c.header_first = !fields.empty() && fields.front().prim == rosmsg::Prim::kMessage &&
-                         fields.front().type == "std_msgs/Header";
+                         fields.front().array < 0 && fields.front().type == "std_msgs/Header" &&
+                         import_standard_header(*c.schema, s.encoding);
       }
     }
     channels[id] = std::move(c);
@@ -684,6 +817,8 @@ Result<ImportReport> import_recording(const std::string& in, const std::string& 
                               if (h == nullptr)
                                 return Error{where(*rec, c.src, index, m) +
                                              ": no header.stamp (set `stamp: receive` for this topic in topics.yaml)"};
+                              if (h->kind() != Value::Kind::kTime)
+                                return Error{where(*rec, c.src, index, m) + ": field 'header.stamp' is not a time"};
                               fast = h->as_ns();
                             }
                             ns = *fast;
@@ -745,8 +880,15 @@ Result<ImportReport> import_recording(const std::string& in, const std::string& 
                    if (c.rule->stamp == StampSource::kHeader) {
                      const Value* h = v->find("header.stamp");
                      if (h == nullptr) return Error{where(*rec, c.src, index, m) + ": no header.stamp"};
+                     if (h->kind() != Value::Kind::kTime)
+                       return Error{where(*rec, c.src, index, m) + ": field 'header.stamp' is not a time"};
                      ns = h->as_ns();
                    }
+                   // Pass 1 checked the stamp it read; the decoded one is the same (see
+                   // header_first), checked again so that no path writes one out of range.
+                   if (ns < 0 || ns >= (int64_t{1} << 32) * kNsPerS)
+                     return Error{where(*rec, c.src, index, m) + ": stamp " + std::to_string(ns) +
+                                  " ns is outside the ROS time range"};
                    auto payload = convert(c.entry->kind, *v, *c.rule, ns, where(*rec, c.src, index, m));
                    if (!payload) return payload.error();
                    Event e;
