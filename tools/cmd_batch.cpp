@@ -23,6 +23,7 @@
 #include <sstream>
 #include <thread>
 
+#include "replay/run/mission.hpp"
 #include "replay/run/sweep.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_batch.hpp"
@@ -63,6 +64,7 @@ struct PlanArgs {
   double duration_s = 600.0;
   std::string resolution = "full";
   std::string sim_config, run_config;
+  bool duration_given = false, resolution_given = false, seeds_given = false;  // flags actually given
   std::string systems = "fusion,submap";
   std::string model;
   bool no_report = false;
@@ -91,13 +93,23 @@ int plan_sweep_cmd(const PlanArgs& a) {
     if (!item.empty()) s.scenes.push_back(item);
   auto seeds = run::parse_seeds(a.seeds);
   if (!seeds.ok()) return fail("plan", "--" + seeds.error().message);
-  s.seeds = *seeds;
   s.cells = a.cells;
   s.cells_per_task = a.cells_per_task;
-  s.duration_s = a.duration_s;
-  s.resolution = a.resolution;
   auto sim = read_file_text(a.sim_config);
   if (!sim.ok()) return fail("plan", "--sim-config: " + sim.error().message);
+  // A flag given wins over --sim-config, the file over the flag's default (as sweep, simulate).
+  run::MissionFlags flags;
+  flags.duration_s = a.duration_s;
+  flags.duration_given = a.duration_given;
+  flags.resolution = a.resolution;
+  flags.resolution_given = a.resolution_given;
+  flags.seeds = *seeds;
+  flags.seeds_given = a.seeds_given;
+  if (Status st = run::resolve_mission_flags(*sim, flags); !st.ok())
+    return fail("plan", "--sim-config " + a.sim_config + ": " + st.error().message);
+  s.seeds = flags.seeds;
+  s.duration_s = flags.duration_s;
+  s.resolution = flags.resolution;
   auto cfg = read_file_text(a.run_config);
   if (!cfg.ok()) return fail("plan", "--config: " + cfg.error().message);
   s.sim_config_yaml = *sim;
@@ -489,12 +501,15 @@ const bool registered = register_command(
        auto* ps = plan->add_subcommand("sweep", "Scenes x seeds x keyframe cells x systems (the seed study)");
        common_plan(ps);
        ps->add_option("--scenes", pa->scenes, "Built-in scenes, comma-separated")->capture_default_str();
-       ps->add_option("--seeds", pa->seeds, "Seeds: 1-5, 1,3,7 or 2")->capture_default_str();
+       auto* ps_seeds = ps->add_option("--seeds", pa->seeds, "Seeds: 1-5, 1,3,7 or 2 (overrides --sim-config)")
+                            ->capture_default_str();
        ps->add_option("--cells", pa->cells, "all, or DISTANCE/ROTATION list such as 1/30,3/30")->capture_default_str();
        ps->add_option("--cells-per-task", pa->cells_per_task, "Cells per task (0: a whole scene/seed per task)")
            ->capture_default_str();
-       ps->add_option("--duration", pa->duration_s, "Mission duration (s)")->capture_default_str();
-       ps->add_option("--resolution", pa->resolution, "full or reduced")->capture_default_str();
+       auto* ps_duration = ps->add_option("--duration", pa->duration_s, "Mission duration (s; overrides --sim-config)")
+                               ->capture_default_str();
+       auto* ps_resolution = ps->add_option("--resolution", pa->resolution, "full or reduced (overrides --sim-config)")
+                                 ->capture_default_str();
        ps->add_option("--sim-config", pa->sim_config, "Simulator config YAML");
        ps->add_option("--config", pa->run_config, "Run config YAML (docs/CONFIG.md)");
        ps->add_option("--systems", pa->systems, "Mapping systems")->capture_default_str();
@@ -551,7 +566,12 @@ const bool registered = register_command(
        slurm->add_option("-o,--out", sa->out, "Merge output folder (default: <plan>/merged)");
 
        return [=, &sub]() -> int {
-         if (ps->parsed()) return plan_sweep_cmd(*pa);
+         if (ps->parsed()) {
+           pa->duration_given = ps_duration->count() > 0;
+           pa->resolution_given = ps_resolution->count() > 0;
+           pa->seeds_given = ps_seeds->count() > 0;
+           return plan_sweep_cmd(*pa);
+         }
          if (pv->parsed()) return plan_verify_cmd(*pa);
          if (pg->parsed()) return plan_golden_cmd(*pa);
          if (run->parsed()) return run_cmd(*ra);

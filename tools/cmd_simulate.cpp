@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include <opencv2/core.hpp>
@@ -41,6 +42,9 @@ struct SimulateArgs {
   std::string real_ping;          // with --compare-profiles: a raw Oculus ping drawn beside
   bool quiet = false;
   int zstd_level = 1;  // fixture chunk compression (1: the renderer's pace; 19: smallest files)
+  bool ranges = false;  // list the simulator config's keys with their valid ranges
+  // Flags actually given: only these override the --config file (docs/SCENES.md).
+  bool duration_given = false, seed_given = false, resolution_given = false, threads_given = false;
 };
 
 int fail(const std::string& msg) {
@@ -49,22 +53,37 @@ int fail(const std::string& msg) {
 }
 
 int run_simulate(const SimulateArgs& a) {
+  if (a.ranges) {
+    for (const auto& r : sim::sim_config_key_ranges()) std::cout << r.key << "\t" << r.range << "\n";
+    return 0;
+  }
+  // Precedence, lowest first: SimConfig's defaults and this command's (--threads 2), the
+  // --config file, the flags actually given (a flag left at its default never overrides
+  // the file: sweep and batch resolve the same way).
   sim::SimConfig cfg;
+  cfg.render_threads = a.threads;
+  std::optional<sim::SonarProfile> profile;
   if (!a.profile.empty()) {  // before the config file, whose keys refine the profile
     auto p = sim::parse_profile(a.profile);
     if (!p) return fail(p.error().message);
+    profile = *p;
     cfg.profile = *p;
     sim::apply_profile(cfg.sonar, cfg.profile);
   }
   if (!a.config_yaml.empty())
     if (Status s = sim::load_sim_config_file(a.config_yaml, cfg); !s) return fail(s.error().message);
-  cfg.duration_s = a.duration_s;
-  cfg.seed = a.seed;
+  if (profile && cfg.profile != *profile)
+    return fail("--profile " + a.profile + " contradicts '" + a.config_yaml + "' (profile: " +
+                sim::profile_name(cfg.profile) + ")");
+  if (a.duration_given) cfg.duration_s = a.duration_s;
+  if (a.seed_given) cfg.seed = a.seed;
   cfg.labels = a.labels || cfg.labels;
-  cfg.render_threads = a.threads;
-  auto res = sim::parse_resolution(a.resolution);
-  if (!res) return fail(res.error().message);
-  cfg.resolution = *res;
+  if (a.threads_given) cfg.render_threads = a.threads;
+  if (a.resolution_given) {
+    auto res = sim::parse_resolution(a.resolution);
+    if (!res) return fail(res.error().message);
+    cfg.resolution = *res;
+  }
   if (Status s = sim::validate(cfg); !s) return fail(s.error().message);
   auto scene = a.scene_file.empty() ? sim::builtin_scene(a.scene, a.scene_seed) : sim::load_scene_file(a.scene_file);
   if (!scene) return fail(scene.error().message);
@@ -202,10 +221,14 @@ const bool registered = register_command(
        auto* scene = sub.add_option("--scene", a->scene, "Built-in scene: marina1, marina2, harbor, aircraft")
                          ->capture_default_str();
        sub.add_option("--scene-file", a->scene_file, "User scene YAML (docs/SCENES.md)")->excludes(scene);
-       sub.add_option("--duration", a->duration_s, "Mission length, seconds")->capture_default_str();
-       sub.add_option("--seed", a->seed, "Noise seed (speckle, sensors)")->capture_default_str();
+       auto* duration = sub.add_option("--duration", a->duration_s, "Mission length, seconds (overrides --config)")
+                            ->capture_default_str();
+       auto* seed = sub.add_option("--seed", a->seed, "Noise seed (speckle, sensors; overrides --config)")
+                        ->capture_default_str();
        sub.add_option("--scene-seed", a->scene_seed, "Geometry seed of a built-in scene")->capture_default_str();
-       sub.add_option("--resolution", a->resolution, "full (512x600) or reduced (256x300)")->capture_default_str();
+       auto* resolution = sub.add_option("--resolution", a->resolution,
+                                         "full (512x600) or reduced (256x300) (overrides --config)")
+                              ->capture_default_str();
        sub.add_flag("--labels", a->labels, "Also write per-pixel class labels per ping");
        sub.add_option("-o,--out", a->out, "Fixture to write (.mcap)");
        sub.add_option("--export-mesh", a->export_mesh, "Write the ground-truth scene mesh (PLY)");
@@ -214,7 +237,9 @@ const bool registered = register_command(
        sub.add_option("--zstd-level", a->zstd_level, "zstd level of the fixture's chunks (1 fastest, 19 smallest)")
            ->check(CLI::Range(1, 19))
            ->capture_default_str();
-       sub.add_option("--threads", a->threads, "Render threads (output identical for any count)")->capture_default_str();
+       auto* threads = sub.add_option("--threads", a->threads,
+                                      "Render threads (output identical for any count; overrides --config)")
+                           ->capture_default_str();
        sub.add_option("--snapshot-dir", a->snapshot_dir, "Write fan PNGs of the pings at --snapshot-at times here");
        sub.add_option("--snapshot-at", a->snapshot_at_s, "Mission times (s) for snapshots");
        sub.add_option("--snapshot-pose", a->snapshot_pose, "Only render both sonars at 'x y yaw_deg' (vehicle depth) into --snapshot-dir");
@@ -223,7 +248,14 @@ const bool registered = register_command(
        sub.add_option("--real-ping", a->real_ping,
                       "With --compare-profiles: also draw this raw Oculus ping (oculus_m1200d_real.png)");
        sub.add_flag("-q,--quiet", a->quiet, "No summary line");
-       return [a] { return run_simulate(*a); };
+       sub.add_flag("--ranges", a->ranges, "List every --config key with its valid range, and exit");
+       return [a, duration, seed, resolution, threads] {
+         a->duration_given = duration->count() > 0;
+         a->seed_given = seed->count() > 0;
+         a->resolution_given = resolution->count() > 0;
+         a->threads_given = threads->count() > 0;
+         return run_simulate(*a);
+       };
      }});
 
 }  // namespace

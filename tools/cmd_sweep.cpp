@@ -38,6 +38,8 @@ struct SweepArgs {
   std::string fixture;  // use this fixture instead of simulating
   std::string sim_config;
   CommonRunArgs run;
+  // Flags actually given: only these override --sim-config (as `simulate --config`).
+  bool duration_given = false, resolution_given = false, seeds_given = false;
 };
 
 int fail(const std::string& m) {
@@ -107,7 +109,16 @@ int run_sweep(SweepArgs a) {
     ss << f.rdbuf();
     sim_yaml = ss.str();
   }
-  auto res = sim::parse_resolution(a.resolution);
+  MissionFlags flags;
+  flags.duration_s = a.duration_s;
+  flags.duration_given = a.duration_given;
+  flags.resolution = a.resolution;
+  flags.resolution_given = a.resolution_given;
+  flags.seeds = *seeds;
+  flags.seeds_given = a.seeds_given;
+  if (Status s = resolve_mission_flags(sim_yaml, flags); !s.ok()) return fail(a.sim_config + ": " + s.error().message);
+  *seeds = flags.seeds;
+  auto res = sim::parse_resolution(flags.resolution);
   if (!res.ok()) return fail(res.error().message);
   // One scene and one seed write into out_dir itself (as always); several write one folder
   // per (scene, seed) and seeds.md / seeds.json over them (write_sweep_set).
@@ -118,7 +129,7 @@ int run_sweep(SweepArgs a) {
     for (const uint64_t seed : *seeds) {
       MissionSpec spec;
       spec.scene = scene;
-      spec.duration_s = a.duration_s;
+      spec.duration_s = flags.duration_s;
       spec.resolution = *res;
       spec.seed = seed;
       spec.render_threads = std::max(1, a.threads);
@@ -153,9 +164,11 @@ const bool registered = register_command(
                       "Built-in scene (marina1, marina2, harbor, aircraft); several separated by commas")
            ->capture_default_str();
        sub.add_option("-o,--out", a->out_dir, "Output directory")->capture_default_str();
-       sub.add_option("--duration", a->duration_s, "Mission duration (s)")->capture_default_str();
-       sub.add_option("--resolution", a->resolution, "full or reduced")->capture_default_str();
-       sub.add_option("--seed,--seeds", a->seeds,
+       auto* duration = sub.add_option("--duration", a->duration_s, "Mission duration (s; overrides --sim-config)")
+                            ->capture_default_str();
+       auto* resolution = sub.add_option("--resolution", a->resolution, "full or reduced (overrides --sim-config)")
+                              ->capture_default_str();
+       auto* seeds = sub.add_option("--seed,--seeds", a->seeds,
                       "Simulation seed(s): 2, 1-5 or 1,3,7; several write one folder per scene and seed and "
                       "seeds.md (per seed and pooled)")
            ->capture_default_str();
@@ -167,7 +180,12 @@ const bool registered = register_command(
        sub.add_flag("--no-report", a->no_report,
                     "Skip the reference-cell (3 m / 30 deg) outputs and report/report.html");
        add_run_options(sub, a->run);
-       return [a] { return run_sweep(*a); };
+       return [a, duration, resolution, seeds] {
+         a->duration_given = duration->count() > 0;
+         a->resolution_given = resolution->count() > 0;
+         a->seeds_given = seeds->count() > 0;
+         return run_sweep(*a);
+       };
      }});
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <numbers>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/geometry.hpp"
 #include "core/mesh.hpp"
@@ -161,8 +162,26 @@ SonarGeometry sonar_geometry(const SonarHead& h, Resolution r);
 Status apply_sim_config_yaml(const std::string& yaml_text, SimConfig& config);
 // The same from a YAML file; errors name the file.
 Status load_sim_config_file(const std::string& path, SimConfig& config);
-// Checks ranges (elevation_samples >= 32, positive rates, ...).
+// Checks every key against its range (the same table the YAML reader uses) and what one
+// key's range cannot say: side_lobe_floor_db below side_lobe_db, each head's ping-rate
+// ceiling, vertical_delay_s within a ping period, the limits below. A SimConfig that passes
+// can be simulated and rendered without overflow, division by zero or NaN.
 Status validate(const SimConfig& config);
+
+// Limits across keys (docs/SCENES.md "Valid ranges of the simulator configuration").
+inline constexpr double kSimMaxDurationS = 86400.0;         // one day
+inline constexpr double kSimMaxSamples = 1e7;               // duration_s / vehicle.step_s, duration_s x nav.imu_rate_hz
+inline constexpr int64_t kSimMaxRaysPerHead = 1 << 22;      // beams_full x beam_samples x elevation_samples
+inline constexpr double kSimMaxTwoWayAbsorptionDb = 200.0;  // 2 x absorption x max(max_range_m, tvg_reference_m)
+
+// One key of the simulator configuration with its valid range, as docs/SCENES.md lists it
+// (`orthosonar simulate --ranges`), and a value outside that range (for tests).
+struct SimConfigKeyRange {
+  std::string key;        // "vehicle.step_s"
+  std::string range;      // "[0.0001, 1]"
+  std::string bad_value;  // a YAML value the key rejects
+};
+std::vector<SimConfigKeyRange> sim_config_key_ranges();
 
 // "x y z roll pitch yaw" (metres, radians), as fixture metadata stores extrinsics.
 std::string format_pose6(const SE3& T);

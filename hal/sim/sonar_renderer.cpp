@@ -354,7 +354,7 @@ SonarRenderer::SonarRenderer(const TriangleMesh& mesh, const SonarModelConfig& c
       for (int i = 0; i < kTable; ++i) {
         const float signal = 0.0f;
         const float lin = (signal + nf * m.noise[static_cast<size_t>(i)]) * gain;
-        const int q = lin >= static_cast<float>(kGammaLut - 1) ? kGammaLut - 1 : static_cast<int>(lin);
+        const int q = !(lin < static_cast<float>(kGammaLut - 1)) ? kGammaLut - 1 : static_cast<int>(lin);  // NaN: top, as _mm_min_ps gives
         h.zero_lut.push_back(m.gamma_lut[static_cast<size_t>(q)]);
       }
     }
@@ -702,7 +702,7 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
     if (zero_lut != nullptr && a == 0.0f) return zero_lut[(b >> 12) & 0xFFF];
     const float signal = a * rs * speckle[b & 0xFFF];
     const float lin = (signal + nf * noise[(b >> 12) & 0xFFF]) * gain;
-    const int q = lin >= static_cast<float>(kGammaLut - 1) ? kGammaLut - 1 : static_cast<int>(lin);
+    const int q = !(lin < static_cast<float>(kGammaLut - 1)) ? kGammaLut - 1 : static_cast<int>(lin);  // NaN: top, as _mm_min_ps gives
     return gamma_lut[q];
   };
 #if defined(__SSE2__)

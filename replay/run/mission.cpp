@@ -6,6 +6,7 @@
 #include <string>
 
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include "hal/sim/simulator.hpp"
 #include "replay/fixture.hpp"
@@ -26,6 +27,24 @@ bool same_mission(const replay::FixtureMetadata& m, const MissionSpec& s) {
 
 }  // namespace
 
+Status resolve_mission_flags(const std::string& sim_config_yaml, MissionFlags& flags) {
+  if (sim_config_yaml.empty()) return {};
+  sim::SimConfig file;
+  if (Status s = sim::apply_sim_config_yaml(sim_config_yaml, file); !s.ok()) return s;
+  YAML::Node root;
+  try {
+    root = YAML::Load(sim_config_yaml);
+  } catch (const YAML::Exception& e) {
+    return Error{std::string("sim config: ") + e.what()};
+  }
+  const YAML::Node& doc = root;  // const: a lookup never inserts
+  auto sets = [&doc](const char* key) { return doc.IsMap() && doc[key].IsDefined(); };
+  if (!flags.duration_given && sets("duration_s")) flags.duration_s = file.duration_s;
+  if (!flags.resolution_given && sets("resolution")) flags.resolution = sim::resolution_name(file.resolution);
+  if (!flags.seeds_given && sets("seed")) flags.seeds = {file.seed};
+  return {};
+}
+
 Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& path,
                                     const std::function<void(double)>& progress) {
   if (std::filesystem::exists(path)) {
@@ -36,12 +55,14 @@ Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& 
   auto scene = sim::builtin_scene(spec.scene, spec.seed);
   if (!scene.ok()) return scene.error();
   sim::SimConfig cfg;
+  cfg.render_threads = spec.render_threads;  // the file may set it (same bytes for any count)
+  if (!spec.sim_config_yaml.empty())
+    if (Status s = sim::apply_sim_config_yaml(spec.sim_config_yaml, cfg); !s.ok()) return s.error();
+  // The spec's mission wins over the file: the caller resolved it (resolve_mission_flags),
+  // and the fixture's name and reuse check rely on it.
   cfg.duration_s = spec.duration_s;
   cfg.seed = spec.seed;
   cfg.resolution = spec.resolution;
-  cfg.render_threads = spec.render_threads;
-  if (!spec.sim_config_yaml.empty())
-    if (Status s = sim::apply_sim_config_yaml(spec.sim_config_yaml, cfg); !s.ok()) return s.error();
   if (Status s = sim::validate(cfg); !s.ok()) return s.error();
   sim::Simulator simulator(std::move(*scene), cfg);
   std::error_code ec;

@@ -3,6 +3,7 @@
 // reusing an existing fixture when its metadata says it was made with the same settings.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/result.hpp"
 #include "hal/sim/sim_config.hpp"
@@ -15,8 +16,23 @@ struct MissionSpec {
   sim::Resolution resolution = sim::Resolution::kFull;
   uint64_t seed = 1;
   int render_threads = 2;
-  std::string sim_config_yaml;  // simulator overrides (fields of SimConfig), may be empty
+  std::string sim_config_yaml;  // simulator overrides (fields of SimConfig), may be empty; the
+                                // fields above win over it (resolve_mission_flags chose them)
 };
+
+// A mission's duration, resolution and seeds from a command line (sweep, batch plan sweep)
+// and its simulator config: a flag given wins over the file, the file over the flag's
+// default, as `simulate --config` resolves them (docs/SCENES.md). An invalid file is an
+// error here, before anything runs.
+struct MissionFlags {
+  double duration_s = 180.0;
+  bool duration_given = false;
+  std::string resolution = "full";
+  bool resolution_given = false;
+  std::vector<uint64_t> seeds;
+  bool seeds_given = false;
+};
+Status resolve_mission_flags(const std::string& sim_config_yaml, MissionFlags& flags);
 
 // Writes `path` unless a complete fixture with the same scene, seed, resolution and
 // duration is already there. `progress(fraction)` is called while simulating.
