@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstring>
+#include <limits>
 
 #include "replay/fixture.hpp"
 #include "replay/mcap_format.hpp"
@@ -168,4 +169,27 @@ TEST_CASE("bad input out-of-order stamps within a channel", "[unit]") {
   CHECK(back.error.find(dir + "/order.mcap") != std::string::npos);
   CHECK(back.error.find("out-of-order stamps on /depth") != std::string::npos);
   CHECK(back.error.find("chunk at byte offset") != std::string::npos);
+}
+
+// Issue 35: a NaN orientation was replayed as it was and reached dead reckoning's poses
+// (then int64(floor(NaN)) voxel keys); it is an error naming the file, offset and field.
+TEST_CASE("bad input non-finite IMU orientation", "[unit]") {
+  const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    std::vector<Event> ev;
+    ImuReading good;
+    good.stamp = Time::from_s(1);
+    ev.push_back({good.stamp, Channel::kImu, 0, good});
+    ImuReading nan = good;
+    nan.stamp = Time::from_s(2);
+    nan.q_W_V = Quat(bad, 0.0, 0.0, 0.0);
+    ev.push_back({nan.stamp, Channel::kImu, 1, nan});
+    REQUIRE(write_fixture(dir + "/imu.mcap", ev).ok());
+    const auto back = read_fixture(dir + "/imu.mcap");
+    INFO(back.error);
+    REQUIRE_FALSE(back.error.empty());
+    CHECK(back.error.find(dir + "/imu.mcap") != std::string::npos);
+    CHECK(back.error.find("byte offset") != std::string::npos);
+    CHECK(back.error.find("imu field 'orientation' is not finite") != std::string::npos);
+  }
 }

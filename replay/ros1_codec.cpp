@@ -252,6 +252,8 @@ Result<Payload> decode(Channel c, const uint8_t* data, size_t size, uint32_t* he
     ImuReading m;
     m.stamp = stamp;
     m.q_W_V = get_quat(r);
+    // A NaN orientation would reach dead reckoning's poses and int64(floor(NaN)) voxel keys.
+    if (r.ok() && !m.q_W_V.coeffs().allFinite()) return Error{"imu field 'orientation' is not finite"};
     r.skip(72);
     m.angular_velocity_V = get_vec3(r);
     r.skip(72);

@@ -43,6 +43,10 @@ DeadReckoning::DeadReckoning(DrConfig config) : config_(std::move(config)) {
 
 void DeadReckoning::add(const ImuReading& r) {
   if (!imu_.empty() && r.stamp < imu_.back().first) return;  // out of order: ignore
+  if (!r.q_W_V.coeffs().allFinite()) {  // would make every later pose (and voxel key) NaN
+    ++counts_.imu_nonfinite;
+    return;
+  }
   const Quat q = r.q_W_V.normalized();
   const double tau = config_.attitude_filter_tau_s;
   // A device set up without gyro output reports rates of exactly zero (hal/drivers/vn100.cpp

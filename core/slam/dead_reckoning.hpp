@@ -40,6 +40,7 @@ struct DrCounts {
   size_t dvl_nonfinite = 0;   // NaN / inf component
   size_t dvl_too_fast = 0;    // |v| > max_speed_mps
   size_t dvl_before_imu = 0;  // skipped: no orientation known yet
+  size_t imu_nonfinite = 0;   // IMU readings skipped: NaN / inf orientation
   size_t dropouts = 0;        // number of gaps longer than hold_s without a good reading
   // Each dropout: (last good DVL stamp, next good DVL stamp, or the last DVL stamp seen
   // while the dropout is still open).

@@ -192,3 +192,29 @@ TEST_CASE("without gyro rates the attitude filter stays off", "[unit]") {
   const auto dr = run_imu(1000, [](int64_t k) { return 0.001 * static_cast<double>(k); }, [](int64_t) { return 0.0; });
   CHECK(dr_yaw(dr, Time::from_s(10)) == Approx(1.0).margin(1e-9));
 }
+
+// Issue 35: a NaN orientation was normalised into NaN and every later pose (and the voxel
+// keys of every point placed with it) became NaN; such a reading is skipped and counted.
+TEST_CASE("DR skips and counts IMU readings with a non-finite orientation", "[unit]") {
+  DeadReckoning dr;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k <= 100; ++k) {
+    const Time t = Time::from_ms(10 * k);
+    ImuReading r{t, yaw_quat(0.2), Vec3(0.0, 0.0, 0.001), Vec3::Zero()};
+    if (k % 10 == 5) r.q_W_V = Quat(nan, 0.0, 0.0, 0.0);
+    if (k % 10 == 6) r.q_W_V = Quat(1.0, std::numeric_limits<double>::infinity(), 0.0, 0.0);
+    dr.add(r);
+    if (k % 20 == 0) {
+      dr.add(DepthReading{t, 3.0});
+      dr.add(DvlReading{t, Vec3(1.0, 0.0, 0.0), true, 5.0});
+    }
+  }
+  CHECK(dr.counts().imu_nonfinite == 20);
+  for (int k = 0; k <= 100; ++k) {
+    const auto p = dr.pose_at(Time::from_ms(10 * k));
+    REQUIRE(p.ok());
+    INFO(k);
+    REQUIRE(p->matrix().allFinite());
+  }
+  CHECK(dr.pose_at(Time::from_s(1))->translation().x() == Approx(std::cos(0.2)).margin(0.01));
+}

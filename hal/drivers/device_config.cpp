@@ -1,5 +1,6 @@
 #include "hal/drivers/device_config.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <yaml-cpp/yaml.h>
@@ -34,15 +35,39 @@ Result<DeviceKind> kind_from_name(const std::string& s) {
   return Error{"unknown device kind '" + s + "' (oculus, vn100, a50, prti01, depth)"};
 }
 
+// Every key of a map must be one this file reads: a misspelt key (`silence_timout_ms`,
+// `mount_rpy` on the IMU) is an error naming it, never a default silently kept.
+static Status device_config_known_keys(const YAML::Node& n, const std::string& where, std::initializer_list<const char*> keys) {
+  if (!n.IsMap()) return Error{"devices.yaml: '" + where + "' must be a map"};
+  for (const auto& kv : n) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("<not a plain name>");
+    bool known = false;
+    for (const char* k : keys) known = known || key == k;
+    if (!known) {
+      std::string list;
+      for (const char* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+      return Error{"devices.yaml: unknown key '" + key + "' in " + where + " (known: " + list + ")"};
+    }
+  }
+  return {};
+}
+
 Result<LiveConfig> parse_live_config(const std::string& text) {
   LiveConfig c;
   try {
     const YAML::Node root = YAML::Load(text);
+    if (!root.IsMap()) return Error{"devices.yaml: the document must be a map with 'devices'"};
+    if (auto s = device_config_known_keys(root, "the document", {"queue", "reconnect", "devices"}); !s) return s.error();
     if (const auto q = root["queue"]) {
+      if (auto s = device_config_known_keys(q, "queue", {"sonar_capacity", "nav_capacity"}); !s) return s.error();
       c.queue.sonar_capacity = q["sonar_capacity"].as<size_t>(c.queue.sonar_capacity);
       c.queue.nav_capacity = q["nav_capacity"].as<size_t>(c.queue.nav_capacity);
     }
     if (const auto r = root["reconnect"]) {
+      if (auto s = device_config_known_keys(
+              r, "reconnect", {"initial_backoff_ms", "max_backoff_ms", "connect_timeout_ms", "silence_timeout_ms"});
+          !s)
+        return s.error();
       c.reconnect.initial_backoff_ms = r["initial_backoff_ms"].as<int64_t>(c.reconnect.initial_backoff_ms);
       c.reconnect.max_backoff_ms = r["max_backoff_ms"].as<int64_t>(c.reconnect.max_backoff_ms);
       c.reconnect.connect_timeout_ms = r["connect_timeout_ms"].as<int64_t>(c.reconnect.connect_timeout_ms);
@@ -57,6 +82,17 @@ Result<LiveConfig> parse_live_config(const std::string& text) {
       auto kind = kind_from_name(n["kind"].as<std::string>(""));
       if (!kind) return Error{"devices.yaml: device '" + d.name + "': " + kind.error().message};
       d.kind = *kind;
+      const std::string where = "device '" + d.name + "'";
+      if (d.kind == DeviceKind::kOculus) {
+        if (auto s = device_config_known_keys(n, where, {"name", "kind", "address", "port", "serial", "baud", "mount",
+                                                         "part_number", "status_port", "fire", "mount_rpy_deg"});
+            !s)
+          return s.error();
+      } else if (auto s = device_config_known_keys(n, where + " (" + kind_name(d.kind) + ")",
+                                                   {"name", "kind", "address", "port", "serial", "baud", "mount_rpy_deg"});
+                 !s) {
+        return s.error();
+      }
       d.address = n["address"].as<std::string>(d.address);
       d.port = n["port"].as<uint16_t>(d.kind == DeviceKind::kOculus ? oculus::kTcpPort : 0);
       d.serial_path = n["serial"].as<std::string>("");
@@ -71,6 +107,10 @@ Result<LiveConfig> parse_live_config(const std::string& text) {
         d.status_port = n["status_port"].as<uint16_t>(d.status_port);
         d.listen_status = d.status_port != 0;  // status_port: 0 disables the listener
         if (const auto f = n["fire"]) {
+          if (auto s = device_config_known_keys(f, where + " fire", {"version", "range_m", "gain_percent", "gamma", "mode",
+                                                                     "ping_rate", "bits", "beams", "send_gain"});
+              !s)
+            return s.error();
           d.fire_version = f["version"].as<int>(2);
           if (d.fire_version != 1 && d.fire_version != 2) return Error{"devices.yaml: device '" + d.name + "': fire.version must be 1 or 2"};
           d.fire.range = f["range_m"].as<double>(d.fire.range);
@@ -90,7 +130,11 @@ Result<LiveConfig> parse_live_config(const std::string& text) {
       }
       if (const auto m = n["mount_rpy_deg"]) {
         if (!m.IsSequence() || m.size() != 3) return Error{"devices.yaml: device '" + d.name + "': mount_rpy_deg needs 3 numbers"};
-        d.q_V_S = from_rpy_deg(m[0].as<double>(), m[1].as<double>(), m[2].as<double>());
+        const double r = m[0].as<double>(), p = m[1].as<double>(), y = m[2].as<double>();
+        // The mount turns every IMU quaternion of the device: a NaN here is a NaN orientation.
+        if (!std::isfinite(r) || !std::isfinite(p) || !std::isfinite(y))
+          return Error{"devices.yaml: device '" + d.name + "': mount_rpy_deg must be 3 finite numbers"};
+        d.q_V_S = from_rpy_deg(r, p, y);
       } else if (d.kind == DeviceKind::kA50) {
         d.q_V_S = Quat(0.0, 1.0, 0.0, 0.0);  // A50 frame x forward, y right, z down
       }

@@ -1,7 +1,10 @@
 #include <catch2/catch.hpp>
 #include <fcntl.h>
 #include <stdlib.h>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 #include <unistd.h>
 
 #include "hal/drivers/driver_device.hpp"
@@ -180,4 +183,27 @@ devices:
   CHECK(again->devices[0].fire == c->devices[0].fire);
   CHECK_FALSE(parse_live_config("devices: [{name: x, kind: lidar, port: 1}]").ok());
   CHECK_FALSE(parse_live_config("devices: [{name: x, kind: vn100}]").ok());
+}
+
+// Issue 35: a misspelt key was ignored and its default kept (a silence timeout of 5 s
+// instead of the one meant, an IMU mounted at [0, 0, 0]); each is an error naming the key.
+TEST_CASE("devices.yaml rejects unknown keys, naming them, and a non-finite mount", "[hal]") {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"devices: [{name: d, kind: a50, port: 1}]\nreconect: {max_backoff_ms: 1}\n", "'reconect'"},
+      {"queue: {sonar_capacity: 4, nav_capacty: 9}\ndevices: [{name: d, kind: a50, port: 1}]\n", "'nav_capacty' in queue"},
+      {"reconnect: {silence_timout_ms: 9}\ndevices: [{name: d, kind: a50, port: 1}]\n", "'silence_timout_ms' in reconnect"},
+      {"devices: [{name: imu, kind: vn100, serial: /dev/x, mount_rpy: [0, 0, 90]}]\n", "'mount_rpy' in device 'imu'"},
+      {"devices: [{name: imu, kind: vn100, serial: /dev/x, mount: vertical}]\n", "'mount' in device 'imu' (vn100)"},
+      {"devices: [{name: s, kind: oculus, fire: {range: 20}}]\n", "'range' in device 's' fire"},
+      {"devices: [{name: s, kind: oculus, adress: 10.0.0.1}]\n", "'adress' in device 's'"},
+  };
+  for (const auto& [text, expected] : cases) {
+    INFO(text);
+    auto c = parse_live_config(text);
+    REQUIRE_FALSE(c.ok());
+    CHECK(c.error().message.find("unknown key " + expected) != std::string::npos);
+  }
+  auto nan = parse_live_config("devices: [{name: imu, kind: vn100, serial: /dev/x, mount_rpy_deg: [0, .nan, 0]}]\n");
+  REQUIRE_FALSE(nan.ok());
+  CHECK(nan.error().message.find("mount_rpy_deg must be 3 finite numbers") != std::string::npos);
 }

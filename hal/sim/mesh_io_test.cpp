@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -366,6 +367,48 @@ TEST_CASE("each file format has one implementation in the source tree", "[hal]")
     return s;
   }());
   CHECK(offenders.empty());
+}
+
+}  // namespace orthosonar::sim
+
+namespace orthosonar::sim {
+
+// Issue 35: NaN, infinite or beyond-float vertices loaded as they were and reached the
+// renderer's BVH and int64(floor(NaN)) voxel keys; each format now names the file and where.
+TEST_CASE("mesh vertices that are not finite floats are errors naming the file and where", "[hal]") {
+  const std::string dir = out_dir();
+  const std::string ply_head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const std::string bad : {"nan", "inf", "-inf", "1e39"}) {
+    INFO(bad);
+    write_bytes(dir + "/nonfinite.ply", ply_head + "0 0 0\n1 " + bad + " 0\n0 1 0\n3 0 1 2\n");
+    auto p = read_mesh(dir + "/nonfinite.ply");
+    REQUIRE_FALSE(p.ok());
+    CHECK(mentions(p.error(), "nonfinite.ply: element vertex #1", "not a finite float"));
+  }
+  write_bytes(dir + "/nonfinite.obj", "v 0 0 0\nv 1 0 0\nv 0 1e39 0\nf 1 2 3\n");
+  auto o = read_mesh(dir + "/nonfinite.obj");
+  REQUIRE_FALSE(o.ok());
+  CHECK(mentions(o.error(), "nonfinite.obj line 3", "not a finite float"));
+  write_bytes(dir + "/nonfinite_ascii.stl",
+              "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 -1e39 0\nendloop\nendfacet\n"
+              "endsolid x\n");
+  auto a = read_mesh(dir + "/nonfinite_ascii.stl");
+  REQUIRE_FALSE(a.ok());
+  CHECK(mentions(a.error(), "nonfinite_ascii.stl: ascii STL vertex #2", "not a finite float"));
+  // Binary STL: a NaN in the second triangle's third corner.
+  TriangleMesh m;
+  MeshBuilder(m).box({0, 0, 0}, {1, 1, 1}, 0, {1, SemanticClass::kOther});
+  REQUIRE(write_mesh_stl(m, dir + "/nonfinite_bin.stl", true).ok());
+  std::string bytes = read_bytes(dir + "/nonfinite_bin.stl");
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const size_t at = 84 + 50 * 1 + 12 + 12 * 2 + 4;
+  bytes.replace(at, 4, reinterpret_cast<const char*>(&nan), 4);
+  write_bytes(dir + "/nonfinite_bin.stl", bytes);
+  auto b = read_mesh(dir + "/nonfinite_bin.stl");
+  REQUIRE_FALSE(b.ok());
+  CHECK(mentions(b.error(), "nonfinite_bin.stl: triangle 1 (byte offset 170)", "vertex 2 is not finite"));
 }
 
 }  // namespace orthosonar::sim

@@ -4,6 +4,8 @@
 // far (1-based, or negative and relative), so a huge or out-of-range index is an error
 // naming the file and line, never an out-of-bounds access.
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -29,6 +31,9 @@ Result<TriangleMesh> read_mesh_obj(const std::string& path) {
     if (kw == "v") {
       double x, y, z;
       if (!(ls >> x >> y >> z)) return Error{where + "bad vertex"};
+      for (const double c : {x, y, z})  // NaN or beyond a float: the renderer's BVH and voxel keys break
+        if (!(std::abs(c) <= std::numeric_limits<float>::max()))
+          return Error{where + "vertex coordinate " + std::to_string(c) + " is not a finite float"};
       if (m.vertices.size() >= static_cast<size_t>(INT32_MAX)) return Error{where + "more vertices than a mesh can index"};
       m.vertices.emplace_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
     } else if (kw == "f") {

@@ -6,6 +6,8 @@
 #include <bit>
 #include <cctype>
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <climits>
 #include <cstdio>
 #include <cstring>
@@ -156,6 +158,9 @@ Result<TriangleMesh> decode_ply(std::string_view bytes, const std::string& path,
         }
       }
       if (is_vertex) {
+        for (const double c : xyz)  // NaN or beyond a float: the renderer's BVH and voxel keys break
+          if (!(std::abs(c) <= std::numeric_limits<float>::max()))
+            return Error{at(e, i) + "x, y or z " + std::to_string(c) + " is not a finite float"};
         mesh.vertices.emplace_back(static_cast<float>(xyz[0]), static_cast<float>(xyz[1]), static_cast<float>(xyz[2]));
       } else if (is_face) {
         if (!(semantic >= 0 && semantic < kSemanticClassCount)) semantic = static_cast<double>(SemanticClass::kOther);

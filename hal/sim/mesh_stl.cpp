@@ -3,6 +3,8 @@
 // (50 bytes per triangle) before anything is allocated; an ascii file has no count and is
 // read token by token, so its size bounds it.
 #include <bit>
+#include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -44,6 +46,10 @@ Result<TriangleMesh> read_stl_ascii(std::ifstream& in, const std::string& path) 
     if (word != "vertex") continue;
     double x, y, z;
     if (!(in >> x >> y >> z)) return Error{path + ": bad ascii STL vertex #" + std::to_string(m.vertices.size())};
+    for (const double c : {x, y, z})
+      if (!(std::abs(c) <= std::numeric_limits<float>::max()))
+        return Error{path + ": ascii STL vertex #" + std::to_string(m.vertices.size()) + " coordinate " +
+                     std::to_string(c) + " is not a finite float"};
     if (m.vertices.size() >= static_cast<size_t>(INT32_MAX)) return Error{path + ": more vertices than a mesh can index"};
     m.vertices.emplace_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
     if (++corner == 3) {
@@ -89,6 +95,9 @@ Result<TriangleMesh> read_mesh_stl(const std::string& path) {
     for (int c = 0; c < 3; ++c) {
       float v[3];
       std::memcpy(v, rec + 12 + 12 * c, 12);
+      if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+        return Error{path + ": triangle " + std::to_string(t) + " (byte offset " + std::to_string(84 + 50ull * t + 12 + 12ull * c) +
+                     "): vertex " + std::to_string(c) + " is not finite"};
       m.vertices.emplace_back(v[0], v[1], v[2]);
     }
     const int k = static_cast<int>(m.vertices.size());
