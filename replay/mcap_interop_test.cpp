@@ -4,6 +4,7 @@
 // replay exactly the events written; bad input must be an error naming file and offset.
 // (replay/interop/run_rewrite.sh does the same with the official TypeScript writer.)
 #include <lz4frame.h>
+#include <sys/resource.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -33,6 +34,7 @@ struct WriterMode {
   bool summary = false;             // Data End, then schemas, channels and statistics; else no summary
   std::string compression = "zstd";
   bool lz4_size_in_even_chunks = true;  // the LZ4 frame's optional content size: in chunks 0, 2, ... (else 1, 3, ...)
+  bool zstd_content_size = true;        // false: zstd frames without their (optional) content size
   // Declared uncompressed size minus the real one (a lying chunk header), for error tests.
   int64_t size_lie = 0;
 };
@@ -89,10 +91,21 @@ std::vector<uint8_t> message_record(const Event& e) {
   return record(Op::kMessage, w.take());
 }
 
-std::vector<uint8_t> compress(const std::vector<uint8_t>& in, const std::string& how, bool lz4_content_size) {
+std::vector<uint8_t> compress(const std::vector<uint8_t>& in, const std::string& how, bool lz4_content_size,
+                              bool zstd_content_size = true) {
   if (how.empty()) return in;
   std::vector<uint8_t> out;
-  if (how == "zstd") {
+  if (how == "zstd" && !zstd_content_size) {
+    ZSTD_CCtx* cctx = ZSTD_createCCtx();
+    REQUIRE(cctx != nullptr);
+    REQUIRE_FALSE(ZSTD_isError(ZSTD_CCtx_setParameter(cctx, ZSTD_c_contentSizeFlag, 0)));
+    out.resize(ZSTD_compressBound(in.size()));
+    const size_t n = ZSTD_compress2(cctx, out.data(), out.size(), in.data(), in.size());
+    ZSTD_freeCCtx(cctx);
+    REQUIRE_FALSE(ZSTD_isError(n));
+    out.resize(n);
+    REQUIRE(ZSTD_getFrameContentSize(out.data(), out.size()) == ZSTD_CONTENTSIZE_UNKNOWN);
+  } else if (how == "zstd") {
     out.resize(ZSTD_compressBound(in.size()));
     const size_t n = ZSTD_compress(out.data(), out.size(), in.data(), in.size(), 1);
     REQUIRE_FALSE(ZSTD_isError(n));
@@ -163,7 +176,7 @@ Built build(const std::vector<std::vector<Event>>& groups, const WriterMode& m) 
     hi = std::max(hi, end);
     events += groups[g].size();
     if (m.chunks) {
-      const auto data = compress(inner, m.compression, (g % 2 == 0) == m.lz4_size_in_even_chunks);
+      const auto data = compress(inner, m.compression, (g % 2 == 0) == m.lz4_size_in_even_chunks, m.zstd_content_size);
       CanonicalWriter c;
       c.put_u64(start);
       c.put_u64(end);
@@ -400,6 +413,43 @@ TEST_CASE("interop: an lz4 chunk claiming more than lz4 can expand is rejected b
   const auto b = build(split(small_recording(26), 500'000'000), m);
   const auto e = expect_error_at(dir + "/lz4ratio.mcap", b.bytes, b.chunk_offsets[0]);
   CHECK(e.find("more than lz4 can expand") != std::string::npos);
+}
+
+// Peak resident memory of this process so far, in bytes.
+size_t interop_test_peak_rss_bytes() {
+  struct rusage u {};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<size_t>(u.ru_maxrss) * 1024;
+}
+
+// Issue 35: a zstd frame need not state its content size; the reader used to allocate the
+// chunk's declared uncompressed size (up to 1 GiB) before decompressing a single byte.
+TEST_CASE("interop: a zstd chunk without a content size is read streaming, bounded by its declared size", "[unit]") {
+  const std::string dir = test_dir("mcap_interop");
+  const auto events = small_recording(29);
+  const auto groups = split(events, 500'000'000);
+  WriterMode m;
+  m.zstd_content_size = false;
+  write_bytes(dir + "/zstd_nosize.mcap", build(groups, m).bytes);
+  const auto back = read_fixture(dir + "/zstd_nosize.mcap");
+  INFO(back.error);
+  REQUIRE(back.error.empty());
+  CHECK(back.events == events);
+  // A declared size that lies either way is an error naming the chunk.
+  for (const int64_t lie : {-7, 9}) {
+    m.size_lie = lie;
+    const auto b = build(groups, m);
+    const auto e = expect_error_at(dir + "/zstd_nosize_lie" + std::to_string(lie) + ".mcap", b.bytes, b.chunk_offsets[0]);
+    CHECK(e.find(lie < 0 ? "zstd chunk decompresses to more than its stated" : "zstd chunk decompresses to") !=
+          std::string::npos);
+  }
+  // 1 GiB declared for a chunk of a few kB: rejected before a buffer of that size exists.
+  m.size_lie = (int64_t{1} << 30) - 200000;  // the chunk holds far less than 200 kB
+  const auto b = build(groups, m);
+  const size_t rss_before = interop_test_peak_rss_bytes();
+  const auto e = expect_error_at(dir + "/zstd_nosize_1gib.mcap", b.bytes, b.chunk_offsets[0]);
+  CHECK(e.find("more than zstd can expand") != std::string::npos);
+  CHECK(interop_test_peak_rss_bytes() < rss_before + (size_t{256} << 20));
 }
 
 TEST_CASE("interop: an unknown chunk compression is an error naming its offset", "[unit]") {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <sstream>
 
 #include <lz4frame.h>
@@ -25,6 +26,47 @@ namespace {
 // rejected before its buffer is allocated (the frame's content size field is optional).
 constexpr uint64_t kLz4MaxRatio = 255;
 constexpr uint64_t kLz4Slack = 4096;
+
+// zstd's densest block is a 4-byte RLE block of 128 KiB (a 32768-fold expansion), so a
+// chunk claiming more than that from its compressed bytes is rejected before any buffer
+// is allocated. A frame without its (optional) content size is decompressed streaming, the
+// buffer growing only as output arrives, never past the chunk's declared size.
+constexpr uint64_t kZstdMaxRatio = 32768;
+constexpr uint64_t kZstdSlack = 4096;
+
+// Decompresses a zstd frame that does not state its content size into `out`: exactly
+// c.uncompressed_size bytes, or an error naming the chunk.
+Status zstd_frame_streaming(const std::string& path, const ChunkRef& c, const uint8_t* src, std::vector<uint8_t>& out) {
+  ZSTD_DStream* raw = ZSTD_createDStream();
+  if (raw == nullptr) return at(path, c.offset, "cannot create a zstd decompression stream for the chunk");
+  const std::unique_ptr<ZSTD_DStream, decltype(&ZSTD_freeDStream)> ds(raw, ZSTD_freeDStream);
+  const size_t declared = static_cast<size_t>(c.uncompressed_size);
+  out.clear();
+  out.resize(std::min<size_t>(declared, size_t{1} << 20));
+  ZSTD_inBuffer in{src, static_cast<size_t>(c.compressed_size), 0};
+  size_t produced = 0;
+  for (;;) {
+    if (produced == out.size() && out.size() < declared) out.resize(std::min(declared, 2 * out.size()));
+    // With the declared size reached, one byte of room shows a frame that goes on.
+    uint8_t extra = 0;
+    const bool full = produced == declared;
+    ZSTD_outBuffer o = full ? ZSTD_outBuffer{&extra, 1, 0} : ZSTD_outBuffer{out.data(), out.size(), produced};
+    const size_t in_before = in.pos, out_before = o.pos;
+    const size_t r = ZSTD_decompressStream(ds.get(), &o, &in);
+    if (ZSTD_isError(r)) return at(path, c.offset, std::string("chunk does not decompress (") + ZSTD_getErrorName(r) + ")");
+    if (full && o.pos > 0)
+      return at(path, c.offset, "zstd chunk decompresses to more than its stated " + std::to_string(declared) + " bytes");
+    if (!full) produced = o.pos;
+    if (r == 0 && in.pos == in.size) break;  // the last frame is complete
+    if (in.pos == in_before && o.pos == out_before)  // no progress: the input ended inside a frame
+      return at(path, c.offset, "zstd chunk frame ends early (after " + std::to_string(produced) + " of " +
+                                    std::to_string(declared) + " bytes)");
+  }
+  if (produced != declared)
+    return at(path, c.offset, "zstd chunk decompresses to " + std::to_string(produced) + " bytes, the chunk states " +
+                                  std::to_string(declared));
+  return {};
+}
 
 // Decompresses an LZ4 frame (MCAP's "lz4") of exactly c.uncompressed_size bytes into `out`.
 Status lz4_frame(const std::string& path, const ChunkRef& c, const uint8_t* src, std::vector<uint8_t>& out) {
@@ -239,14 +281,21 @@ Result<const uint8_t*> chunk_records(const MappedFile& file, const ChunkRef& c, 
   const uint8_t* src = file.data() + c.records_offset;
   const uint8_t* records = src;
   if (c.compression == "zstd") {
+    if (c.uncompressed_size > kZstdMaxRatio * c.compressed_size + kZstdSlack)
+      return at(path, c.offset, "zstd chunk claims " + std::to_string(c.uncompressed_size) + " uncompressed bytes from " +
+                                    std::to_string(c.compressed_size) + " compressed (more than zstd can expand)");
     // The frame states its size (our writer always records it): check before allocating.
     const unsigned long long fcs = ZSTD_getFrameContentSize(src, c.compressed_size);
     if (fcs == ZSTD_CONTENTSIZE_ERROR || (fcs != ZSTD_CONTENTSIZE_UNKNOWN && fcs != c.uncompressed_size))
       return at(path, c.offset, "chunk is not a zstd frame of the stated size");
-    scratch.resize(c.uncompressed_size);
-    const size_t n = ZSTD_decompress(scratch.data(), scratch.size(), src, c.compressed_size);
-    if (ZSTD_isError(n)) return at(path, c.offset, std::string("chunk does not decompress (") + ZSTD_getErrorName(n) + ")");
-    if (n != c.uncompressed_size) return at(path, c.offset, "chunk decompresses to the wrong size");
+    if (fcs == ZSTD_CONTENTSIZE_UNKNOWN) {
+      if (auto s = zstd_frame_streaming(path, c, src, scratch); !s) return s.error();
+    } else {
+      scratch.resize(c.uncompressed_size);
+      const size_t n = ZSTD_decompress(scratch.data(), scratch.size(), src, c.compressed_size);
+      if (ZSTD_isError(n)) return at(path, c.offset, std::string("chunk does not decompress (") + ZSTD_getErrorName(n) + ")");
+      if (n != c.uncompressed_size) return at(path, c.offset, "chunk decompresses to the wrong size");
+    }
     records = scratch.data();
   } else if (c.compression == "lz4") {
     if (auto s = lz4_frame(path, c, src, scratch); !s) return s.error();
