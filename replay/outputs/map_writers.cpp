@@ -16,9 +16,19 @@ Status write_ply(const std::string& path, const std::vector<Eigen::Vector3f>& po
 }
 
 Status write_octomap(const std::string& path, const std::vector<Eigen::Vector3f>& points,
-                     double resolution_m) {
+                     double resolution_m, size_t* outside_key_range) {
   octomap::OcTree tree(resolution_m);
-  for (const auto& p : points) tree.updateNode(octomap::point3d(p.x(), p.y(), p.z()), true);
+  size_t outside = 0;
+  for (const auto& p : points) {
+    const octomap::point3d q(p.x(), p.y(), p.z());
+    octomap::OcTreeKey key;
+    if (!tree.coordToKeyChecked(q, key)) {  // updateNode would drop it without a word
+      ++outside;
+      continue;
+    }
+    tree.updateNode(key, true);
+  }
+  if (outside_key_range != nullptr) *outside_key_range = outside;
   tree.updateInnerOccupancy();
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
   if (!f) return Error{"cannot open '" + path + "' for writing"};

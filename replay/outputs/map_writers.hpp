@@ -17,8 +17,12 @@ namespace orthosonar::outputs {
 
 Status write_pcd(const std::string& path, const std::vector<Eigen::Vector3f>& points);
 Status write_ply(const std::string& path, const std::vector<Eigen::Vector3f>& points);
+// OctoMap's keys are 16 bits: it holds coordinates within +-32768 x resolution_m (+-3277 m at
+// 0.1 m). Points outside (or not finite) cannot be inserted; their number is returned in
+// `outside_key_range` (when given) so the caller can report them instead of losing them
+// silently (run outputs: summary.json "octomap_points_outside_key_range").
 Status write_octomap(const std::string& path, const std::vector<Eigen::Vector3f>& points,
-                     double resolution_m = 0.1);
+                     double resolution_m = 0.1, size_t* outside_key_range = nullptr);
 
 // A PCD with any number of float fields per point (`values` row-major, names.size() per
 // point), ASCII (PCL's formatting, 8 significant digits) or binary. For clouds that carry

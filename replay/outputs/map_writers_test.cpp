@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <utility>
 
 #include <octomap/OcTree.h>
@@ -188,4 +189,21 @@ TEST_CASE("OctoMap file marks the points occupied", "[unit]") {
   CHECK(tree.isNodeOccupied(n));
   CHECK(tree.search(-7.0, -7.0, -7.0) == nullptr);
   CHECK(tree.getNumLeafNodes() == 2);
+}
+
+// Issue 35: OctoMap's 16-bit keys hold +-32768 x resolution; a point beyond (a DR start of
+// 1e7 m is a valid dr.initial_xy_m) was dropped by updateNode without a word. The writer
+// now counts what it could not insert, and the run reports it in summary.json.
+TEST_CASE("OctoMap points outside its key range are counted, not dropped silently", "[unit]") {
+  const std::vector<Eigen::Vector3f> pts = {{1.05f, 2.05f, -3.05f}, {1e7f, 0.0f, -3.0f}, {3300.0f, 0.0f, 0.0f},
+                                            {std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f}};
+  const auto path = (out_dir() / "outside.bt").string();
+  size_t outside = 99;
+  REQUIRE(outputs::write_octomap(path, pts, 0.1, &outside).ok());
+  CHECK(outside == 3);  // 1e7 m and 3300 m lie beyond +-3276.8 m at 0.1 m; NaN has no key
+  octomap::OcTree tree(path);
+  CHECK(tree.getNumLeafNodes() == 1);
+  // At 1 m the tree holds +-32768 m: 3300 m fits.
+  REQUIRE(outputs::write_octomap(path, pts, 1.0, &outside).ok());
+  CHECK(outside == 2);
 }

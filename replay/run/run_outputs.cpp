@@ -91,15 +91,18 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) return Error{"cannot create '" + out_dir + "': " + ec.message()};
+  nlohmann::json octomap_outside = nlohmann::json::object();  // per system, only where points were left out
   for (const auto& s : run.systems) {
     const fs::path d = out / s.name;
     fs::create_directories(d, ec);
     if (ec) return Error{"cannot create '" + d.string() + "': " + ec.message()};
     if (Status st = outputs::write_pcd((d / "map.pcd").string(), s.map_W); !st.ok()) return st;
     if (Status st = outputs::write_ply((d / "map.ply").string(), s.map_W); !st.ok()) return st;
-    if (Status st = outputs::write_octomap((d / "map.bt").string(), s.map_W, run.config.octomap_resolution_m);
+    size_t outside = 0;
+    if (Status st = outputs::write_octomap((d / "map.bt").string(), s.map_W, run.config.octomap_resolution_m, &outside);
         !st.ok())
       return st;
+    if (outside > 0) octomap_outside[s.name] = outside;
     if (Status st = write_json(d / "metrics.json", system_metrics_json(run, s)); !st.ok()) return st;
   }
   const auto& slam = run.pipeline->slam();
@@ -135,6 +138,9 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   if (run.pipeline->slam().config().heading_drift_sigma_dps > 0.0) {
     summary["slam_heading_drift_dps"] = run.pipeline->slam().heading_drift_rad_s() * 180.0 / std::numbers::pi;
   }
+  // Points map.bt could not hold (OctoMap's key range is +-32768 x octomap_resolution_m):
+  // named here rather than dropped silently; map.pcd and map.ply have them all.
+  if (!octomap_outside.empty()) summary["octomap_points_outside_key_range"] = octomap_outside;
   summary["digest"] = run.digest.overall_hex;
   if (Status st = write_json(out / "summary.json", summary); !st.ok()) return st;
   return replay::write_digest_json((out / "digest.json").string(), run.digest);
