@@ -67,7 +67,10 @@ TEST_CASE("Synthetic basin: SLAM halves the drifting DR error and closes loops",
     p_dr.push_back(slam.keyframes()[i].T_W_V_dr.translation());
     p_slam.push_back(slam.keyframes()[i].T_W_V_slam.translation());
   }
-  const double ate_dr = ate_rmse(p_dr, p_truth), ate_slam = ate_rmse(p_slam, p_truth);
+  const auto ate_dr_r = ate_rmse(p_dr, p_truth), ate_slam_r = ate_rmse(p_slam, p_truth);
+  REQUIRE(ate_dr_r.ok());
+  REQUIRE(ate_slam_r.ok());
+  const double ate_dr = *ate_dr_r, ate_slam = *ate_slam_r;
   INFO("keyframes " << truth.size() << " ATE DR " << ate_dr << " SLAM " << ate_slam << " loops "
                     << slam.accepted_loop_closures());
   CHECK(ate_dr > 2.0);
@@ -171,14 +174,18 @@ TEST_CASE("Synthetic basin, a steadily drifting DR heading: the graph estimates 
       p_truth.push_back(se3(truth[i]).translation());
     }
     for (const auto& kf : slam.keyframes()) p_slam.push_back(kf.T_W_V_slam.translation());
-    return std::make_pair(ate_rmse(p_slam, p_truth), slam.heading_drift_rad_s());
+    const auto ate = ate_rmse(p_slam, p_truth);
+    REQUIRE(ate.ok());
+    return std::make_pair(*ate, slam.heading_drift_rad_s());
   };
   std::vector<Vec3> p_truth, p_dr;
   for (size_t i = 0; i < truth.size(); ++i) {
     p_truth.push_back(se3(truth[i]).translation());
     p_dr.push_back(se3(dr[i]).translation());
   }
-  const double ate_dr = ate_rmse(p_dr, p_truth);
+  const auto ate_dr_r = ate_rmse(p_dr, p_truth);
+  REQUIRE(ate_dr_r.ok());
+  const double ate_dr = *ate_dr_r;
   const auto [ate_plain, rate_plain] = fly(SlamConfig{});
   SlamConfig drifting;
   drifting.heading_drift_sigma_dps = 0.5;
@@ -240,7 +247,10 @@ TEST_CASE("Loop candidates that agree with one another but not with the odometry
     p_without.push_back(without.keyframes()[i].T_W_V_slam.translation());
     p_with.push_back(with.keyframes()[i].T_W_V_slam.translation());
   }
-  const double ate_without = ate_rmse(p_without, p_truth), ate_with = ate_rmse(p_with, p_truth);
+  const auto ate_without_r = ate_rmse(p_without, p_truth), ate_with_r = ate_rmse(p_with, p_truth);
+  REQUIRE(ate_without_r.ok());
+  REQUIRE(ate_with_r.ok());
+  const double ate_without = *ate_without_r, ate_with = *ate_with_r;
   INFO("accepted loops into the misplaced keyframes: without the gate " << loops_into_bad(without)
        << ", with it " << loops_into_bad(with) << "; rejected by the gate " << rejected << "; ATE "
        << ate_without << " -> " << ate_with << "; loops accepted " << without.accepted_loop_closures() << " -> "

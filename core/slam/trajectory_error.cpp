@@ -1,12 +1,15 @@
 #include "core/slam/trajectory_error.hpp"
 
 #include <cmath>
+#include <string>
 
 namespace orthosonar::slam {
 
-double ate_rmse(const std::vector<Vec3>& est, const std::vector<Vec3>& truth,
-                AteAlignment alignment) {
-  if (est.empty() || est.size() != truth.size()) return 0.0;
+Result<double> ate_rmse(const std::vector<Vec3>& est, const std::vector<Vec3>& truth,
+                        AteAlignment alignment) {
+  if (est.empty() || est.size() != truth.size())
+    return Error{"ate_rmse: estimate has " + std::to_string(est.size()) + " positions, truth " +
+                 std::to_string(truth.size()) + " (need the same number, at least one)"};
   const Vec3 offset =
       alignment == AteAlignment::kFirstPosition ? Vec3(truth.front() - est.front()) : Vec3::Zero();
   double sum = 0.0;

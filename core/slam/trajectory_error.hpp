@@ -6,13 +6,15 @@
 #include <vector>
 
 #include "core/geometry.hpp"
+#include "core/result.hpp"
 
 namespace orthosonar::slam {
 
 enum class AteAlignment { kNone, kFirstPosition };
 
-// est and truth are paired by index; sizes must match (0 when empty or mismatched).
-double ate_rmse(const std::vector<Vec3>& est, const std::vector<Vec3>& truth,
-                AteAlignment alignment = AteAlignment::kFirstPosition);
+// est and truth are paired by index. Empty trajectories or different sizes are an Error
+// (naming both sizes), never a score: a 0 there would read as a perfect trajectory.
+Result<double> ate_rmse(const std::vector<Vec3>& est, const std::vector<Vec3>& truth,
+                        AteAlignment alignment = AteAlignment::kFirstPosition);
 
 }  // namespace orthosonar::slam
