@@ -577,7 +577,7 @@ TEST_CASE("Fast CFAR equals the previous implementation on random images and con
   }
 }
 
-TEST_CASE("Fast CFAR equals the previous implementation (property)", "[unit][property]") {
+TEST_CASE("Fast CFAR equals the previous implementation (property)", "[unit][property][rapidcheck]") {
   rc::prop("cfar_detect == reference_cfar", [] {
     const Depth d = *rc::gen::element(Depth::k8, Depth::k8, Depth::k16, Depth::kFloat);
     const uint64_t seed = *rc::gen::arbitrary<uint64_t>();

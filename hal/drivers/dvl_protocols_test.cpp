@@ -474,7 +474,7 @@ dvl::A50DeadReckoning gen_a50_dead_reckoning() {
 
 }  // namespace
 
-TEST_CASE("A50 encoders round trip every report", "[hal][property]") {
+TEST_CASE("A50 encoders round trip every report", "[hal][property][rapidcheck]") {
   rc::prop("decode_a50(encode_a50(velocity)) == velocity", [] {
     const dvl::A50Velocity r = gen_a50_velocity();
     const std::string line = dvl::encode_a50(r);
@@ -505,7 +505,7 @@ TEST_CASE("A50 encoders round trip every report", "[hal][property]") {
   });
 }
 
-TEST_CASE("A50Parser drops exactly the repeats a slow model drops", "[hal][property]") {
+TEST_CASE("A50Parser drops exactly the repeats a slow model drops", "[hal][property][rapidcheck]") {
   rc::prop("the parser's output equals the model's", [] {
     // A few distinct reports, then a random stream of them: the model keeps the last key of
     // each kind in a map and compares whole decoded reports where the key is the content.
@@ -552,7 +552,7 @@ TEST_CASE("A50Parser drops exactly the repeats a slow model drops", "[hal][prope
   });
 }
 
-TEST_CASE("PRTI encoder round trips every report", "[hal][property]") {
+TEST_CASE("PRTI encoder round trips every report", "[hal][property][rapidcheck]") {
   rc::prop("parse_prti(encode_prti(r)) == r", [] {
     auto mm = [] { return static_cast<double>(*rc::gen::inRange(-99998, 100001)) / 1000.0; };
     dvl::PrtiReport r;

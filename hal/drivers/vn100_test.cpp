@@ -595,7 +595,7 @@ vn100::Message random_message(Gen& g) {
 
 }  // namespace
 
-TEST_CASE("VN-100 random group and field selections round-trip", "[hal]") {
+TEST_CASE("VN-100 random group and field selections round-trip", "[hal][rapidcheck]") {
   rc::prop("encode then decode gives the same fields, through a stream with ASCII between packets", [] {
     Gen g;
     g.any_bits = *rc::gen::arbitrary<bool>();

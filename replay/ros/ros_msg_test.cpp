@@ -337,7 +337,7 @@ TEST_CASE("definition errors name the type and field", "[ros_msg]") {
   CHECK(Schema::parse("std_msgs/Empty", "", Dialect::kRos1).ok());
 }
 
-TEST_CASE("Writer and decode round trip random contents of every known type", "[ros_msg][property]") {
+TEST_CASE("Writer and decode round trip random contents of every known type", "[ros_msg][property][rapidcheck]") {
   for (const KnownType& k : known_types()) {
     for (Encoding enc : {Encoding::kRos1, Encoding::kCdr}) {
       const Dialect d = enc == Encoding::kRos1 ? Dialect::kRos1 : Dialect::kRos2;
@@ -348,7 +348,7 @@ TEST_CASE("Writer and decode round trip random contents of every known type", "[
   }
 }
 
-TEST_CASE("round trips of every primitive, fixed arrays, bounded and empty types", "[ros_msg][property]") {
+TEST_CASE("round trips of every primitive, fixed arrays, bounded and empty types", "[ros_msg][property][rapidcheck]") {
   const std::string text =
       "bool a\nint8 b\nuint8 c\nint16 d\nuint16 e\nint32 f\nuint32 g\nint64 h\nuint64 i\n"
       "float32 j\nfloat64 k\nstring l\ntime m\nduration n\nbyte o\nchar p\n"

@@ -133,7 +133,7 @@ std::vector<Msg> some_msgs(size_t n) {
 
 }  // namespace
 
-TEST_CASE("rosbag: random messages round trip through writer and reader, indexed and by scan", "[unit]") {
+TEST_CASE("rosbag: random messages round trip through writer and reader, indexed and by scan", "[unit][rapidcheck]") {
   const auto dir = case_dir("rosbag", "round_trip", true);
   rc::prop("write, read by index, by scan (index_pos 0) and with the index cut off", [&] {
     const std::string compression = *rc::gen::elementOf(kCompressions);

@@ -64,7 +64,7 @@ TEST_CASE("parse_seeds: ranges and lists, sorted, errors", "[sweep]") {
   for (const char* bad : {"", "5-1", "a", "1-", "-3", "1.5", "0-20000"}) CHECK_FALSE(parse_seeds(bad).ok());
 }
 
-TEST_CASE("a cell's result survives JSON exactly (doubles bit for bit)", "[sweep][property]") {
+TEST_CASE("a cell's result survives JSON exactly (doubles bit for bit)", "[sweep][property][rapidcheck]") {
   rc::prop("round trip", [] {
     CellResult c;
     c.cell = {static_cast<double>(*rc::gen::inRange(1, 6)), 30.0 * *rc::gen::inRange(1, 4)};
