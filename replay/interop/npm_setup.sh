@@ -3,29 +3,36 @@
 # and Foxglove's ROS serialisers) into the build tree, once per version of package.json,
 # and copies the scripts beside node_modules (node resolves imports from a script's folder).
 # Needs $src (this folder) and $npm_dir; exits 77 (ctest SKIP_RETURN_CODE) only when npm
-# cannot install the packages. Nothing may hang: npm gets 240 s (a registry that drops
-# packets would otherwise hold it for 15 minutes), a failed install is remembered so the
-# other interop tests skip at once, and every `node` call of the sourcing script is
+# cannot install the packages, and under CI=true exits 1 instead, naming what is missing:
+# CI must run these tests, and a skip (counted as passed by ctest) would hide a missing
+# install step. Nothing may hang: npm gets 240 s (a registry that drops packets would
+# otherwise hold it for 15 minutes), a failed install is remembered so the other interop
+# tests skip (under CI: fail) at once, and every `node` call of the sourcing script is
 # stopped after 120 s with its JavaScript stack printed, and run once more (see node()).
+npm_skip() {
+  if [ "${CI:-}" = true ]; then
+    echo "FAIL (CI=true: this test must run, not skip): $*" >&2
+    exit 1
+  fi
+  echo "SKIP: $*"
+  exit 77
+}
 mkdir -p "$npm_dir" || exit 1
 cp "$src/package.json" "$src"/*.mjs "$npm_dir/" || exit 1
 stamp="$npm_dir/node_modules/.orthosonar-installed"
 unavailable="$npm_dir/.orthosonar-npm-unavailable"
 if [ ! -f "$stamp" ] || ! cmp -s "$npm_dir/package.json" "$stamp"; then
   if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then
-    echo "SKIP: npm or node is not installed; cannot fetch the TypeScript MCAP libraries"
-    exit 77
+    npm_skip "$(command -v npm >/dev/null 2>&1 || echo 'npm ')$(command -v node >/dev/null 2>&1 || echo 'node ')not installed; cannot fetch the TypeScript MCAP libraries (tools/install-deps installs npm)"
   fi
   if [ -f "$unavailable" ] && cmp -s "$npm_dir/package.json" "$unavailable"; then
-    echo "SKIP: npm could not install the packages earlier in this build (see $npm_dir/npm-install.log)"
-    exit 77
+    npm_skip "npm could not install the packages earlier in this build (see $npm_dir/npm-install.log)"
   fi
   if ! (cd "$npm_dir" && timeout 240 npm install --no-audit --no-fund --no-package-lock --fetch-timeout=60000 \
           --fetch-retries=1 >npm-install.log 2>&1); then
     cp "$npm_dir/package.json" "$unavailable"
-    echo "SKIP: npm cannot install the packages within 240 s (see $npm_dir/npm-install.log)"
     tail -5 "$npm_dir/npm-install.log"
-    exit 77
+    npm_skip "npm cannot install the packages within 240 s (see $npm_dir/npm-install.log)"
   fi
   rm -f "$unavailable"
   cp "$npm_dir/package.json" "$stamp"
