@@ -5,10 +5,15 @@
 // compared with reports::image_difference against `tolerances.image_difference`).
 //
 //   golden --run S.yaml [-o DIR] [--threads N]     simulate + map, print "digest: <hex>"
-//   golden --check S.yaml... [--threads N] [--repeat K] [-o BASE] [--no-images]
+//   golden --check S.yaml... [--threads N] [--repeat K] [-o BASE] [--no-images] [--bounds B.yaml]
 //                                                  exit 0 when every run matches, 1 when not
-//   golden --update [S.yaml...] [-o BASE] [--no-images]
+//   golden --update [S.yaml...] [-o BASE] [--no-images] [--bounds B.yaml]
 //                                                  rewrite expectations, print what changed
+//
+// Beside the recorded expectations, every checked run must stay within the scenario's
+// absolute bounds (golden/bounds.yaml, tools/support_golden_bounds.hpp: SLAM ATE <= k x DR
+// and <= a figure, MAE/RMSE against the mesh, coverage floors). --update never writes that
+// file; it reports a violated bound and exits 1, and --check keeps failing on it.
 //
 // Image checks render with VTK and need an X display: run under `xvfb-run -a` (ctest always
 // is). Without one the image check FAILS; only --no-images skips it (--update then keeps the
@@ -33,6 +38,7 @@
 #include "reports/image_compare.hpp"
 #include "reports/render.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_golden_bounds.hpp"
 #include "tools/support_golden_images.hpp"
 #include "tools/support_run_args.hpp"
 
@@ -278,7 +284,27 @@ bool images_match(const Scenario& s, const RunOutput& run, const fs::path& run_d
   return ok;
 }
 
-int do_check(const std::vector<std::string>& paths, int threads, int repeat, bool images, const fs::path& out_base) {
+// The scenario's absolute bounds (independent of its recorded expectations); prints one
+// line per check. A missing bounds file or scenario entry fails.
+bool bounds_hold(const Scenario& s, const RunOutput& run, const std::string& bounds_path, std::ostream& out) {
+  const std::string path = bounds_path.empty() ? default_golden_bounds_path(s.path) : bounds_path;
+  auto all = load_golden_bounds(path);
+  if (!all) {
+    out << "  bounds FAILED: " << all.error().message << "\n";
+    return false;
+  }
+  const auto it = all->find(s.name);
+  if (it == all->end()) {
+    out << "  bounds FAILED: no absolute bounds for scenario " << s.name << " in " << path << "\n";
+    return false;
+  }
+  const GoldenBoundsVerdict v = check_golden_bounds(it->second, scenario_metrics(run), s.systems);
+  for (const auto& line : v.lines) out << "  bound " << line << "\n";
+  return v.ok;
+}
+
+int do_check(const std::vector<std::string>& paths, int threads, int repeat, bool images, const fs::path& out_base,
+             const std::string& bounds_path) {
   // Asked once: without a display every image check fails with the same message.
   const Status display = images ? reports::check_display() : Status::Ok();
   int failures = 0;
@@ -290,6 +316,7 @@ int do_check(const std::vector<std::string>& paths, int threads, int repeat, boo
       if (!run) { std::cerr << "orthosonar golden: " << run.error().message << "\n"; return 2; }
       std::ostringstream diff;
       bool ok = matches(*s, *run, diff);
+      ok = bounds_hold(*s, *run, bounds_path, diff) && ok;
       if (images) {
         const fs::path run_dir =
             out_base / s->name / ("threads" + std::to_string(threads) + "_run" + std::to_string(r + 1));
@@ -390,7 +417,8 @@ Result<std::map<std::string, std::string>> update_images(const Scenario& s, cons
   return paths;
 }
 
-int do_update(const std::vector<std::string>& paths, bool images, const fs::path& out_base) {
+int do_update(const std::vector<std::string>& paths, bool images, const fs::path& out_base, const std::string& bounds_path) {
+  int violated = 0;
   if (images)
     if (auto d = reports::check_display(); !d) {
       std::cerr << "orthosonar golden: cannot record image expectations: " << d.error().message
@@ -426,8 +454,15 @@ int do_update(const std::vector<std::string>& paths, bool images, const fs::path
       std::cerr << "orthosonar golden: " << st.error().message << "\n";
       return 2;
     }
+    std::ostringstream bounds_out;
+    if (!bounds_hold(*s, *run, bounds_path, bounds_out)) {
+      ++violated;
+      std::cout << bounds_out.str() << "  " << s->name
+                << ": expectations written, but the run violates the absolute bounds above; `golden --check` "
+                   "keeps failing until the code is fixed (the bounds file is never written by --update)\n";
+    }
   }
-  return 0;
+  return violated == 0 ? 0 : 1;
 }
 
 struct GoldenArgs {
@@ -438,6 +473,7 @@ struct GoldenArgs {
   std::string out_dir;
   int threads = 1;
   int repeat = 1;
+  std::string bounds;  // empty: golden/bounds.yaml beside the scenarios' folder
 };
 
 int run_golden(GoldenArgs a) {
@@ -448,8 +484,8 @@ int run_golden(GoldenArgs a) {
     return 2;
   }
   const fs::path out_base = a.out_dir.empty() ? fs::temp_directory_path() / "orthosonar_golden" : fs::path(a.out_dir);
-  if (a.update) return do_update(a.scenarios, !a.no_images, out_base);
-  if (a.check) return do_check(a.scenarios, a.threads, a.repeat, !a.no_images, out_base);
+  if (a.update) return do_update(a.scenarios, !a.no_images, out_base, a.bounds);
+  if (a.check) return do_check(a.scenarios, a.threads, a.repeat, !a.no_images, out_base, a.bounds);
   std::cerr << "orthosonar golden: say --run S.yaml, --check or --update\n";
   return 2;
 }
@@ -467,6 +503,8 @@ const bool registered = register_command(
        sub.add_option("-o,--out", a->out_dir,
                       "With --run: write the run's outputs here. With --check/--update: base directory of each run's "
                       "outputs, renders and comparisons (default: <tmp>/orthosonar_golden)");
+       sub.add_option("--bounds", a->bounds,
+                      "Absolute bounds file (default: bounds.yaml in the folder above the scenario's, i.e. golden/bounds.yaml)");
        sub.add_option("--threads", a->threads, "Fusion threads")->check(CLI::Range(1, 64));
        sub.add_option("--repeat", a->repeat, "With --check: runs per scenario")->check(CLI::Range(1, 100));
        return [a] { return run_golden(*a); };
