@@ -192,4 +192,14 @@ TEST_CASE("bad input non-finite IMU orientation", "[unit]") {
     CHECK(back.error.find("byte offset") != std::string::npos);
     CHECK(back.error.find("imu field 'orientation' is not finite") != std::string::npos);
   }
+  // Ground truth too: it places the true-pose map's points.
+  std::vector<Event> ev;
+  TruthPose t;
+  t.stamp = Time::from_s(1);
+  t.p_W = Vec3(0.0, std::numeric_limits<double>::quiet_NaN(), 0.0);
+  ev.push_back({t.stamp, Channel::kTruthPose, 0, t});
+  REQUIRE(write_fixture(dir + "/truth.mcap", ev).ok());
+  const auto back = read_fixture(dir + "/truth.mcap");
+  REQUIRE_FALSE(back.error.empty());
+  CHECK(back.error.find("truth field 'position' is not finite") != std::string::npos);
 }

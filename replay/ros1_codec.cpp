@@ -279,6 +279,9 @@ Result<Payload> decode(Channel c, const uint8_t* data, size_t size, uint32_t* he
     m.stamp = stamp;
     m.p_W = get_vec3(r);
     m.q_W_V = get_quat(r);
+    // Truth places the true-pose map's points: NaN would reach its voxel keys.
+    if (r.ok() && !m.p_W.allFinite()) return Error{"truth field 'position' is not finite"};
+    if (r.ok() && !m.q_W_V.coeffs().allFinite()) return Error{"truth field 'orientation' is not finite"};
     out = m;
   } else if (is_labels(c)) {
     SonarLabels l;
