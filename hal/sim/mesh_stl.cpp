@@ -96,7 +96,7 @@ Result<TriangleMesh> read_mesh_stl(const std::string& path) {
       float v[3];
       std::memcpy(v, rec + 12 + 12 * c, 12);
       if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
-        return Error{path + ": triangle " + std::to_string(t) + " (byte offset " + std::to_string(84 + 50ull * t + 12 + 12ull * c) +
+        return Error{path + ": triangle " + std::to_string(t) + " (byte offset " + std::to_string(84 + 50ull * t + 12 + 12ull * static_cast<unsigned>(c)) +
                      "): vertex " + std::to_string(c) + " is not finite"};
       m.vertices.emplace_back(v[0], v[1], v[2]);
     }
