@@ -49,7 +49,9 @@ std::string quoted(const fs::path& p) {
   return q;
 }
 
-// "golden <verb> '<scenario>' -o '<out>'"
+// "golden <verb> '<scenario>' -o '<out>' --bounds '<repository>/golden/bounds.yaml'": the
+// scenario copies live outside golden/scenarios/, so the repository's absolute bounds are
+// named explicitly (they hold for the copies, which run the same missions).
 std::string golden_args(const std::string& verb, const fs::path& scenario, const fs::path& out) {
   std::string a("golden ");
   a.append(verb);
@@ -57,6 +59,8 @@ std::string golden_args(const std::string& verb, const fs::path& scenario, const
   a.append(quoted(scenario));
   a.append(" -o ");
   a.append(quoted(out));
+  a.append(" --bounds ");
+  a.append(quoted(fs::path(env_or("ORTHOSONAR_SOURCE", ".")) / "golden" / "bounds.yaml"));
   return a;
 }
 
