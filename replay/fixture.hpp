@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -72,7 +73,19 @@ struct RecoveryReport {
   uint64_t bytes_recovered = 0;  // up to the end of the last complete record/chunk
   uint64_t messages_recovered = 0;
   std::string detail;            // why reading stopped early, naming the byte offset
+  // Log times spanned by the recovered messages (chunk and message-run headers; 0 when
+  // none): the sensor time a cut recording still holds.
+  uint64_t first_ns = 0, last_ns = 0;
+  double sensor_seconds() const { return last_ns > first_ns ? static_cast<double>(last_ns - first_ns) * 1e-9 : 0.0; }
 };
+
+// Issue 40: whether an input fixture is whole. The one decision every command applies to
+// the fixtures it reads (`inspect` prints "recovery: INCOMPLETE" on it; replay, verify,
+// sweep, fuse, export, perception-check, run --metadata-from, batch tasks warn and exit 1
+// unless --allow-incomplete). Empty for a whole file; for a cut one, the warning naming
+// the file, the byte offset of the cut and what was recovered (seconds of sensor time,
+// messages).
+std::optional<std::string> cut_input_warning(const std::string& path, const RecoveryReport& recovery);
 
 // Yields events in (stamp, channel, sequence) order whatever the recording order. Checks
 // the magic and version, every record's opcode, the data section CRC, the summary CRC

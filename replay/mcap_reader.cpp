@@ -416,6 +416,14 @@ class Scanner {
         L_.read.compressions.push_back(c.compression);
     L_.message_count = linear_ ? chunk_messages_ + L_.loose_message_count : L_.statistics->message_count;
     L_.recovery.messages_recovered = L_.message_count;
+    bool any = false;  // the sensor time the recovered messages span (chunk and run headers)
+    for (const auto* refs : {&L_.chunks, &L_.loose_runs})
+      for (const auto& c : *refs) {
+        if (c.end_ns < c.start_ns) continue;
+        L_.recovery.first_ns = any ? std::min(L_.recovery.first_ns, c.start_ns) : c.start_ns;
+        L_.recovery.last_ns = any ? std::max(L_.recovery.last_ns, c.end_ns) : c.end_ns;
+        any = true;
+      }
     return std::move(L_);
   }
 

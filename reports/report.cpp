@@ -247,6 +247,7 @@ Status write_report(const std::string& run_dir, const std::string& report_dir, c
                     " | digest: " + (run->digest_overall.empty() ? std::string("none") : run->digest_overall),
                 "meta");
   doc.paragraph("run directory: " + run_dir, "meta");
+  if (!run->input_cut.empty()) doc.paragraph("INCOMPLETE INPUT: " + run->input_cut, "note");
   metrics_tables(*run, doc);
   for (auto section : {map_section, trajectory_section, sweep_section, golden_section})
     if (auto st = section(b, notes); !st) return st;

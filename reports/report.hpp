@@ -4,6 +4,7 @@
 // trajectory plot, coverage heat maps (sweeps), golden comparisons, the fixture summary,
 // software version and digest. Called by `orthosonar report`, `orthosonar sweep` and the
 // demo. Deterministic: no timestamps; the same inputs give the same HTML.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,10 @@ struct ReportOptions {
 // report_dir/report.html and its PNGs (report_dir is created). Errors name the file at
 // fault; parts that are missing from run_dir are listed in the report, not errors.
 Status write_report(const std::string& run_dir, const std::string& report_dir, const ReportOptions& options = {});
+
+// When `run_dir`'s summary.json records that the run's input fixture was cut short
+// (issue 40): a sentence naming the file, the byte offset and what was recovered.
+std::optional<std::string> run_input_cut(const std::string& run_dir);
 
 // The relative file names an HTML file references (src="..." and href="..." that are
 // not absolute URLs or fragments), in order of appearance. Used by tests and the CLI.

@@ -1,5 +1,7 @@
 #include "reports/run_data.hpp"
 
+#include "reports/report.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -123,6 +125,19 @@ Result<Grid> read_grid(const std::string& path) {
   return g;
 }
 
+std::optional<std::string> run_input_cut(const std::string& run_dir) {
+  auto j = read_json(fs::path(run_dir) / "summary.json");
+  if (!j || !j->is_object() || !j->contains("input")) return std::nullopt;
+  const json& in = (*j)["input"];
+  if (!in.is_object() || in.value("complete", true)) return std::nullopt;
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.3f", in.value("sensor_s_recovered", 0.0));
+  return "input " + in.value("path", std::string("(unnamed)")) + " was cut at byte offset " +
+         std::to_string(in.value("cut_at_byte", uint64_t{0})) + " of " + std::to_string(in.value("bytes_total", uint64_t{0})) +
+         " bytes: the run covers only the " + seconds + " s of sensor time and " +
+         std::to_string(in.value("messages_recovered", uint64_t{0})) + " messages recovered";
+}
+
 Result<RunData> load_run(const std::string& dir) {
   const fs::path root(dir);
   if (!fs::is_directory(root)) return Error{"run directory '" + dir + "' does not exist"};
@@ -177,6 +192,7 @@ Result<RunData> load_run(const std::string& dir) {
     auto j = read_json(root / "summary.json");
     if (j) {
       flatten(*j, "", run.summary);
+      if (auto cut = run_input_cut(dir)) run.input_cut = *cut;
       for (const auto& [k, v] : run.summary) {
         const auto leaf = k.substr(k.find_last_of('.') == std::string::npos ? 0 : k.find_last_of('.') + 1);
         if (leaf == "software_version" && run.software_version.empty()) run.software_version = v;

@@ -70,6 +70,7 @@ struct RunData {
   std::vector<std::pair<std::string, std::string>> digest_outputs;
   std::optional<Grid> grid;
   std::vector<std::string> notes;                             // what was missing or unreadable
+  std::string input_cut;  // summary.json says the input fixture was cut short: what it held ("" otherwise)
 };
 
 // Fails only when `dir` does not exist or holds nothing the report understands.

@@ -27,6 +27,7 @@
 #include "replay/run/sweep.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_batch.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "tools/support_process.hpp"
 
 namespace orthosonar::cli {
@@ -301,7 +302,8 @@ Result<std::pair<std::string, std::string>> write_sbatch(const Plan& plan, const
   mer << sbatch_header(a, "orthosonar-merge") << "#SBATCH --cpus-per-task=1\n#SBATCH --output="
       << (fs::path(plan.dir) / "logs" / "merge.log").string() << "\n"
       << "# Runs after the whole array (afterany): merges what is there and names what is missing.\n"
-      << "exec " << exe << " batch merge " << pdir << (a.out.empty() ? "" : " -o " + shell_quote(a.out)) << "\n";
+      << "exec " << exe << " batch merge " << pdir << (a.out.empty() ? "" : " -o " + shell_quote(a.out))
+      << (allow_incomplete() ? " --allow-incomplete" : "") << "\n";
   const fs::path array_path = dir / "array.sbatch", merge_path = dir / "merge.sbatch";
   for (const auto& [p, text] : {std::pair{array_path, arr.str()}, std::pair{merge_path, mer.str()}}) {
     std::ofstream f(p, std::ios::trunc);
@@ -538,6 +540,7 @@ const bool registered = register_command(
        auto* merge_app = sub.add_subcommand("merge", "Gather the results into the one-machine outputs");
        merge_app->add_option("plan", ra->plan, "Plan folder")->required();
        merge_app->add_option("-o,--out", ra->out, "Output folder (default: <plan>/merged)");
+       add_allow_incomplete_flag(*merge_app);
        auto* status = sub.add_subcommand("status", "Each task's state (exit 0 when all are done)");
        status->add_option("plan", ra->plan, "Plan folder")->required();
 
@@ -549,6 +552,7 @@ const bool registered = register_command(
        local->add_option("--retries", la->retries, "Retries of a failed task")->capture_default_str();
        local->add_flag("--no-merge", la->no_merge, "Do not merge afterwards");
        local->add_option("-o,--out", la->out, "Merge output folder (default: <plan>/merged)");
+       add_allow_incomplete_flag(*local);
 
        auto sa = std::make_shared<SlurmArgs>();
        auto* slurm = sub.add_subcommand("slurm", "Write (and submit) a Slurm job array and a dependent merge job");
@@ -564,6 +568,7 @@ const bool registered = register_command(
        slurm->add_option("--timeout", sa->timeout_s, "With --wait: give up after S seconds (0: never)");
        slurm->add_option("--poll", sa->poll_s, "With --wait: seconds between polls")->capture_default_str();
        slurm->add_option("-o,--out", sa->out, "Merge output folder (default: <plan>/merged)");
+       add_allow_incomplete_flag(*slurm);
 
        return [=, &sub]() -> int {
          if (ps->parsed()) {

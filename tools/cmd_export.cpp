@@ -5,6 +5,7 @@
 
 #include "replay/ros/export.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -29,6 +30,7 @@ int run_export(const ExportArgs& a) {
     std::cerr << "orthosonar export: " << r.error().message << "\n";
     return 2;
   }
+  note_input(a.fixture, r->input_recovery);
   if (!a.quiet) {
     std::cerr << "wrote " << a.out << ":\n";
     for (const auto& [topic, n] : r->messages) std::cerr << "  " << topic << ": " << n << "\n";
@@ -58,6 +60,7 @@ const bool registered = register_command(
        sub.add_option("--compression", a->compression, "bag: none, bz2, lz4 (default none); MCAP: zstd, none (default zstd)")
            ->check(CLI::IsMember({"none", "bz2", "lz4", "zstd"}));
        sub.add_flag("--no-topics-yaml", a->no_yaml, "Do not write OUT's topics.yaml beside it");
+       add_allow_incomplete_flag(sub);
        sub.add_flag("-q,--quiet", a->quiet, "Print only the output path");
        return [a] { return run_export(*a); };
      }});

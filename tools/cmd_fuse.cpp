@@ -16,6 +16,7 @@
 #include "replay/fixture.hpp"
 #include "replay/outputs/map_writers.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
@@ -51,6 +52,7 @@ int run_fuse(const FuseArgs& a) {
     std::cerr << "orthosonar fuse: " << src.error().message << "\n";
     return 2;
   }
+  note_input(a.fixture, (*src)->recovery());
   // The run API's precedence: defaults < the fixture's extrinsics < --config.
   RunOptions options;
   if (!a.config_path.empty()) {
@@ -127,6 +129,7 @@ int run_fuse(const FuseArgs& a) {
   auto mean = [n](size_t total) { return n ? static_cast<double>(total) / static_cast<double>(n) : 0.0; };
   nlohmann::json summary = {
       {"fixture", a.fixture},
+      {"input_complete", (*src)->recovery().complete},
       {"pairs", n},
       {"unpaired", {{"h", pairer.unpaired_h()}, {"v", pairer.unpaired_v()}}},
       {"detections", {{"h", det_h}, {"v", det_v}, {"h_per_image", mean(det_h)}, {"v_per_image", mean(det_v)}}},
@@ -156,6 +159,7 @@ const bool registered = register_command(
        sub.add_option("fixture", a->fixture, "Fixture (.mcap)")->required();
        sub.add_option("-o,--out", a->out_dir, "Output directory")->capture_default_str();
        sub.add_option("--config", a->config_path, "Run configuration YAML (its fusion: section applies)");
+       add_allow_incomplete_flag(sub);
        return [a] { return run_fuse(*a); };
      }});
 

@@ -8,6 +8,7 @@
 
 #include "replay/ros/import.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -88,7 +89,15 @@ int run_import(const ImportArgs& a) {
     std::cerr << "orthosonar import: " << r.error().message << "\n";
     return 2;
   }
-  for (const auto& w : r->warnings) std::cerr << "warning: " << w << "\n";
+  // A cut bag or recording: the fixture holds what was recovered, and the exit code says
+  // so (tools/support_cut_inputs.hpp).
+  const std::string cut_warning = a.in + " is truncated: " + r->input.recovery;
+  for (const auto& w : r->warnings)
+    if (r->input.complete || w != cut_warning) std::cerr << "warning: " << w << "\n";
+  if (!r->input.complete)
+    note_cut_input_warning(a.in + ": input cut, " + r->input.recovery + "; recovered " +
+                           seconds(static_cast<uint64_t>(r->last_ns - r->first_ns)) + " s of sensor time, " +
+                           std::to_string(r->events) + " messages");
   if (!a.quiet) {
     std::cerr << "imported " << r->events << " messages (" << seconds(static_cast<uint64_t>(r->last_ns - r->first_ns))
               << " s) from " << a.in << " (" << r->input.format << ") into " << a.out << ":\n";
@@ -110,6 +119,7 @@ const bool registered = register_command(
        sub.add_flag("--list", a->list, "List topics, types, counts, rates and the mapping; write nothing");
        sub.add_flag("--json", a->json, "With --list: JSON");
        sub.add_flag("-q,--quiet", a->quiet, "Print only the output path");
+       add_allow_incomplete_flag(sub);
        return [a] { return run_import(*a); };
      }});
 

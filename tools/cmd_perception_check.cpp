@@ -47,6 +47,7 @@
 #include "hal/sim/simulator.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "tools/support_oculus_ping_file.hpp"
 #include "tools/support_run_args.hpp"
 
@@ -538,6 +539,7 @@ int run_check(const CheckArgs& a) {
   if (!a.fixture.empty()) {
     auto src = replay::FixtureSource::open(a.fixture);
     if (!src) return fail(src.error().message);
+    note_input(a.fixture, (*src)->recovery());
     const auto& md = (*src)->metadata();
     const auto get = [&](const char* k) {
       const auto it = md.find(k);
@@ -568,7 +570,8 @@ int run_check(const CheckArgs& a) {
                      {"seed", get("seed")},
                      {"resolution", get("resolution")},
                      {"duration_s", get("duration_s")},
-                     {"profile", m.profile}};
+                     {"profile", m.profile},
+                     {"complete", (*src)->recovery().complete}};
     results.push_back(std::move(m));
   } else {
     auto scene = a.scene_file.empty() ? sim::builtin_scene(a.scene, 1) : sim::load_scene_file(a.scene_file);
@@ -668,6 +671,7 @@ const bool registered = register_command(
        auto a = std::make_shared<CheckArgs>();
        auto* scene = sub.add_option("--scene", a->scene, "Built-in scene")->capture_default_str();
        auto* scene_file = sub.add_option("--scene-file", a->scene_file, "User scene YAML (docs/SCENES.md)")->excludes(scene);
+       add_allow_incomplete_flag(sub);
        auto* fixture = sub.add_option("--fixture", a->fixture,
                                       "Measure a recorded fixture with labels (simulate --labels) as recorded")
                            ->excludes(scene)

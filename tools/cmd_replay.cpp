@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
@@ -21,9 +22,14 @@ int run_replay(const ReplayArgs& a) {
     std::cerr << "orthosonar replay: " << options.error().message << "\n";
     return 2;
   }
+  // An earlier run's verdicts go before this run starts (issue 40).
+  if (Status s = clear_run_verdicts(a.out_dir); !s.ok()) {
+    std::cerr << "orthosonar replay: " << s.error().message << "\n";
+    return 2;
+  }
   std::string warning;
   auto r = run_fixture(a.fixture, *options, progress_bar_control("replay", !a.quiet), &warning);
-  if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
+  if (!warning.empty()) note_cut_input_warning(warning);
   if (!r.ok()) {
     std::cerr << "orthosonar replay: " << r.error().message << "\n";
     return 2;

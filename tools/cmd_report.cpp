@@ -5,6 +5,7 @@
 
 #include "reports/report.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -18,6 +19,7 @@ struct ReportCmdOptions {
 
 int run_report(ReportCmdOptions o) {
   o.report.require_renders = !o.allow_no_display;
+  if (auto cut = reports::run_input_cut(o.run_dir)) note_cut_input_warning(o.run_dir + ": " + *cut);
   const Status s = reports::write_report(o.run_dir, o.report_dir, o.report);
   if (!s) {
     std::cerr << "orthosonar report: " << s.error().message << "\n";
@@ -40,6 +42,7 @@ const bool registered = register_command(
        sub.add_option("--diff-max", o->report.diff_max_m, "Difference view colour scale limit (m)")->capture_default_str();
        sub.add_flag("--allow-no-display", o->allow_no_display,
                     "Without an X display, skip the 3D renders instead of failing (normally: run under xvfb-run -a)");
+       add_allow_incomplete_flag(sub);
        return [o] { return run_report(*o); };
      }});
 

@@ -17,6 +17,7 @@
 #include "replay/fixture.hpp"
 #include "replay/recording.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
@@ -85,6 +86,7 @@ int run_live(const RunArgs& a) {
       std::cerr << "orthosonar run: " << f.error().message << "\n";
       return 2;
     }
+    note_input(a.metadata_from, (*f)->recovery());
     meta = (*f)->metadata();
     scene_files = (*f)->attachments();
   }
@@ -107,6 +109,10 @@ int run_live(const RunArgs& a) {
   }
   ro.config = *run_config;
 
+  if (Status s = clear_run_verdicts(a.out_dir); !s.ok()) {
+    std::cerr << "orthosonar run: " << s.error().message << "\n";
+    return 2;
+  }
   auto live_owned = std::make_unique<LiveSource>(*config);
   LiveSource* live = live_owned.get();
   if (Status s = live->start(); !s.ok()) {

@@ -18,6 +18,7 @@
 #include "hal/fake_source.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "replay/run/mission.hpp"
 #include "tools/support_run_args.hpp"
 #include "replay/run/sweep.hpp"
@@ -66,6 +67,7 @@ Result<SweepReport> sweep_one(const SweepArgs& a, const RunOptions& options, con
                                 [&](double f) { print_progress("fuse", f, "pairs fused once for all cells"); });
   if (!prepared.ok()) return prepared.error();
   print_progress("fuse", 1.0, "done");
+  note_input(fixture, prepared->recovery);
   // Pass 2: the cells over `threads` workers; results by cell index (deterministic).
   auto ok = run_cells(*prepared, options, cells, threads, [](size_t d, size_t n) {
     print_progress("cells", static_cast<double>(d) / static_cast<double>(n), std::to_string(d) + "/" + std::to_string(n));

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "tools/support_run_args.hpp"
 
 namespace orthosonar::cli {
@@ -37,9 +38,14 @@ int run_verify(VerifyArgs a) {
     std::cerr << "orthosonar verify: " << options.error().message << "\n";
     return 2;
   }
+  if (!a.out_dir.empty())
+    if (Status s = clear_run_verdicts(a.out_dir); !s.ok()) {
+      std::cerr << "orthosonar verify: " << s.error().message << "\n";
+      return 2;
+    }
   std::string warning;
   auto r = run_fixture(a.fixture, *options, {}, &warning);
-  if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
+  if (!warning.empty()) note_cut_input_warning(warning);
   if (!r.ok()) {
     std::cerr << "orthosonar verify: " << r.error().message << "\n";
     return 2;

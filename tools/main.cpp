@@ -8,6 +8,7 @@
 #include "core/inference/numeric_pins.hpp"
 #include "orthosonar/version.hpp"
 #include "tools/cli.hpp"
+#include "tools/support_cut_inputs.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -51,7 +52,7 @@ int main(int argc, char** argv) {
   for (auto& [sub, action] : actions) {
     if (sub->parsed()) {
       try {
-        return action();
+        return cli::exit_code_with_inputs(sub->get_name(), action());
       } catch (const std::exception& e) {
         std::cerr << "orthosonar " << sub->get_name() << ": error: " << e.what() << "\n";
         return 2;

@@ -17,6 +17,7 @@
 #include "replay/digest.hpp"
 #include "replay/run/mission.hpp"
 #include "replay/run/sweep.hpp"
+#include "tools/support_cut_inputs.hpp"
 #include "tools/support_golden_images.hpp"
 #include "tools/support_process.hpp"
 #include "tools/support_run_args.hpp"
@@ -135,6 +136,8 @@ Status run_sweep_task(const Plan& plan, const Task& task, int threads, const std
   if (!options.ok()) return options.error();
   auto prepared = run::prepare_sweep(fixture, *options, threads, {});
   if (!prepared.ok()) return prepared.error();
+  // A cut input is recorded with the result; merge names the task (issue 40).
+  if (auto cut = replay::cut_input_warning(fixture, prepared->recovery)) result["input_cut"] = *cut;
   const auto cells = cells_from_json(spec.at("cells"));
   auto done = run::run_cells(*prepared, *options, cells, threads, [&](size_t d, size_t n) {
     std::cerr << "batch: " << task.name << ": cell " << d << "/" << n << "\n";
@@ -177,6 +180,7 @@ Status run_verify_task(const Plan& plan, const Task& task, int threads, const st
   auto r = run::run_fixture(fixture, *options, {}, &warning);
   if (!r.ok()) return r.error();
   if (!warning.empty()) result["warning"] = warning;
+  if (!r->input_recovery.complete) result["input_cut"] = warning;
   const auto diff = replay::differing_outputs(*expected, r->digest);
   const bool same = diff.empty() && expected->overall_hex == r->digest.overall_hex;
   result["passed"] = same;
@@ -628,6 +632,20 @@ Gathered gather(const Plan& plan) {
   return g;
 }
 
+// The tasks whose inputs were cut short (a result's "input_cut"), named on stderr and
+// noted as cut inputs: merge exits 1 for them unless --allow-incomplete (issue 40).
+json note_cut_tasks(const Plan& plan, const Gathered& g) {
+  json named = json::array();
+  for (const auto& t : plan.tasks) {
+    const auto& r = g.results[t.index];
+    if (!r || !r->contains("input_cut")) continue;
+    const std::string why = r->value("input_cut", std::string());
+    named.push_back({{"index", t.index}, {"name", t.name}, {"input_cut", why}});
+    note_cut_input_warning("batch task " + std::to_string(t.index) + " (" + t.name + "): " + why);
+  }
+  return named;
+}
+
 void report_problems(const Plan& plan, const Gathered& g) {
   std::cerr << "orthosonar batch merge: " << g.problems.size() << " of " << plan.tasks.size()
             << " task results missing (" << plan_files_note(plan) << "):\n";
@@ -648,6 +666,7 @@ int merge_sweep(const Plan& plan, const Gathered& g, const fs::path& out) {
     report_problems(plan, g);
     return 2;
   }
+  note_cut_tasks(plan, g);
   // One report per (scene, seed), in the plan's order; cells in task order = grid order.
   std::vector<run::SweepReport> reports;
   std::vector<uint64_t> seeds;
@@ -722,6 +741,7 @@ int merge_verdicts(const Plan& plan, const Gathered& g, const fs::path& out) {
   double total_s = 0.0;
   std::ostringstream cases, md;
   json summary = {{"kind", plan.kind}, {"tasks", json::array()}};
+  const json cut_tasks = note_cut_tasks(plan, g);
   md << "# " << suite << "\n\n| Task | Result |\n|---|---|\n";
   for (const auto& t : plan.tasks) {
     const auto& r = g.results[t.index];
@@ -750,6 +770,7 @@ int merge_verdicts(const Plan& plan, const Gathered& g, const fs::path& out) {
       cases << "/>\n";
       verdict = plan.kind == "verify" ? "identical: " + r->value("got", std::string()) : "PASS";
     }
+    if (r && r->contains("input_cut")) verdict += " (INPUT CUT SHORT)";
     md << "| " << t.name << " | " << verdict << " |\n";
     summary["tasks"].push_back({{"index", t.index}, {"name", t.name}, {"verdict", verdict},
                                 {"passed", r && r->value("passed", false)}});
@@ -767,6 +788,8 @@ int merge_verdicts(const Plan& plan, const Gathered& g, const fs::path& out) {
   summary["passed"] = passed;
   summary["failed"] = failures;
   summary["missing"] = errors;
+  summary["input_cut_tasks"] = cut_tasks;
+  if (!cut_tasks.empty()) md << cut_tasks.size() << " task(s) ran on an input cut short: see summary.json input_cut_tasks.\n";
   for (const auto& [name, text] : {std::pair<std::string, std::string>{"junit.xml", xml.str()},
                                    {"summary.md", md.str()}, {"summary.json", summary.dump(2) + "\n"}})
     if (Status s = write_text(out / name, text); !s.ok()) {

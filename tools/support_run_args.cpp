@@ -1,6 +1,8 @@
 // The command-line side of the run API (see support_run_args.hpp).
 #include "tools/support_run_args.hpp"
 
+#include "tools/support_cut_inputs.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +18,7 @@ void add_run_options(CLI::App& sub, CommonRunArgs& a) {
   sub.add_option("--rate", a.rate, "Pace the replay at R x sensor time (0: as fast as possible; changes no output)");
   sub.add_option("--mesh", a.mesh_path, "Ground-truth mesh (PLY/OBJ/STL); default: the fixture's scene");
   sub.add_option("--model", a.model_path, "Classifier model for the inference systems");
+  add_allow_incomplete_flag(sub);
 }
 
 Result<RunOptions> run_options_from(const CommonRunArgs& a) {

@@ -1,6 +1,7 @@
 #pragma once
 // The command-line side of the run API (replay/run/run.hpp): the options shared by replay,
-// verify, run and sweep, and a progress bar. The CLI's commands call the run library
+// verify, run and sweep (--allow-incomplete among them, tools/support_cut_inputs.hpp),
+// and a progress bar. The CLI's commands call the run library
 // in-process; its names are visible in orthosonar::cli unqualified.
 #include <string>
 

@@ -259,6 +259,7 @@ Result<ExportReport> export_fixture(const std::string& fixture, const std::strin
   };
 
   ExportReport report;
+  report.input_recovery = (*src)->recovery();
   std::map<Channel, Topic> topics;
   std::vector<uint8_t> jpeg;
   std::map<Channel, uint32_t> device_ids;

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "core/result.hpp"
+#include "replay/fixture.hpp"
 
 namespace orthosonar::replay::ros {
 
@@ -35,6 +36,7 @@ struct ExportReport {
   std::map<std::string, uint64_t> messages;  // per topic
   std::string topics_yaml;                   // path written ("" when not)
   uint64_t skipped_labels = 0;
+  replay::RecoveryReport input_recovery;     // whether the fixture was whole (cut_input_warning)
 };
 
 // Errors name the fixture (and byte offset) or the event that cannot be expressed (a

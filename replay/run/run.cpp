@@ -424,8 +424,8 @@ Result<RunOutput> run_fixture(const std::string& fixture_path, const RunOptions&
   auto src = replay::FixtureSource::open(fixture_path);
   if (!src.ok()) return src.error();
   auto& source = **src;
-  if (!source.recovery().complete && warning)
-    *warning = fixture_path + " is incomplete: " + source.recovery().detail;
+  if (warning)
+    if (auto cut = replay::cut_input_warning(fixture_path, source.recovery())) *warning = *cut;
   const auto& meta = source.metadata();
   RunOptions resolved = options;
   ConfigSources sources;
@@ -438,6 +438,8 @@ Result<RunOutput> run_fixture(const std::string& fixture_path, const RunOptions&
   if (!r.ok()) return r.error();
   r->mesh_note = note;
   r->config_sources = std::move(sources);
+  r->input_path = fixture_path;
+  r->input_recovery = source.recovery();
   return r;
 }
 

@@ -145,6 +145,10 @@ struct RunOutput {
   Time stream_span;         // last - first event stamp
   double wall_s = 0.0;
   replay::DigestResult digest;  // replay/digest.hpp: SHA-256 per output and overall
+  // The input fixture (run_fixture) and whether it was whole (replay::cut_input_warning):
+  // summary.json's "input" records both. Live runs leave the path empty.
+  std::string input_path;
+  replay::RecoveryReport input_recovery;
 };
 
 // The dead-reckoning start from the mission plan (the scene's first waypoint): fixtures
@@ -172,8 +176,9 @@ Result<RunOutput> run_source(hal::EventSource& source, const std::map<std::strin
                              const RunControl& control = {}, const mapping::FuseFn& fuse = {});
 
 // Opens a fixture, resolves the configuration (effective_config), finds the truth mesh
-// and runs the pipeline over it. A truncated fixture runs on what was recovered and
-// `warning` (when given) says so.
+// and runs the pipeline over it. A truncated fixture runs on what was recovered,
+// RunOutput::input_recovery records it and `warning` (when given) is
+// replay::cut_input_warning's text (the caller decides the exit code, issue 40).
 Result<RunOutput> run_fixture(const std::string& fixture_path, const RunOptions& options,
                               const RunControl& control = {}, std::string* warning = nullptr);
 
@@ -183,7 +188,11 @@ std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::Pipelin
 std::map<std::string, std::vector<uint8_t>> canonical_outputs(const RunOutput& run);
 // metrics.json of one system (the outputs contract).
 nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s);
-// Writes the whole output directory (maps, metrics, trajectories, summary, digest).
+// Removes an earlier run's summary.json and digest.json from `out_dir` (call before a run
+// starts): a run that then fails or is killed leaves no file that reads as a finished run.
+Status clear_run_verdicts(const std::string& out_dir);
+// Writes the whole output directory (maps, metrics, trajectories, summary, digest);
+// summary.json and digest.json last, each through a temporary file and a rename.
 Status write_run_outputs(const RunOutput& run, const RunOptions& options, const std::string& out_dir);
 
 }  // namespace orthosonar::run

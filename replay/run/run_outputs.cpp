@@ -2,6 +2,7 @@
 // metrics.json, keyframes.csv, factors.csv, TUM trajectories, scene mesh, summary.json and digest.json.
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <numbers>
 #include <string>
 
@@ -33,6 +34,34 @@ Status write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   f << j.dump(2) << "\n";
   if (!f) return Error{"write failed for '" + path.string() + "'"};
   return {};
+}
+
+// `path` complete or not at all: written beside it, then renamed over it (issue 40).
+Status write_run_file_atomically(const std::filesystem::path& path, const std::function<Status(const std::string&)>& write) {
+  std::filesystem::path tmp = path;
+  tmp += ".partial";
+  if (Status st = write(tmp.string()); !st.ok()) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    return st;
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Error{"cannot rename '" + tmp.string() + "' to '" + path.string() + "': " + ec.message()};
+  return {};
+}
+
+nlohmann::json run_input_json(const RunOutput& run) {
+  const replay::RecoveryReport& r = run.input_recovery;
+  nlohmann::json j = {{"path", run.input_path}, {"complete", r.complete}};
+  if (!r.complete) {
+    j["cut_at_byte"] = r.bytes_recovered;
+    j["bytes_total"] = r.bytes_total;
+    j["sensor_s_recovered"] = r.sensor_seconds();
+    j["messages_recovered"] = r.messages_recovered;
+    j["detail"] = r.detail;
+  }
+  return j;
 }
 
 // What SLAM did with its factors, per kind: how many joined the graph, and every outcome
@@ -85,12 +114,25 @@ nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s) 
           {"counts", counts}};
 }
 
+Status clear_run_verdicts(const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  for (const char* name : {"digest.json", "summary.json"}) {
+    std::error_code ec;
+    fs::remove(fs::path(out_dir) / name, ec);
+    if (ec) return Error{"cannot remove '" + (fs::path(out_dir) / name).string() + "': " + ec.message()};
+  }
+  return {};
+}
+
 Status write_run_outputs(const RunOutput& run, const RunOptions& options, const std::string& out_dir) {
   namespace fs = std::filesystem;
   const fs::path out(out_dir);
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) return Error{"cannot create '" + out_dir + "': " + ec.message()};
+  // A caller that did not clear them before its run: the verdicts of an earlier run must
+  // not sit beside this run's half-written maps.
+  if (Status st = clear_run_verdicts(out_dir); !st.ok()) return st;
   nlohmann::json octomap_outside = nlohmann::json::object();  // per system, only where points were left out
   for (const auto& s : run.systems) {
     const fs::path d = out / s.name;
@@ -120,6 +162,7 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   nlohmann::json fixture = nlohmann::json::object();
   for (const auto& [k, v] : run.metadata) fixture[k] = v;
   summary["fixture"] = fixture;
+  if (!run.input_path.empty()) summary["input"] = run_input_json(run);
   summary["software_version"] = kVersion;
   summary["config"] = config_to_json(run.config);
   nlohmann::json sources = nlohmann::json::object();
@@ -142,8 +185,13 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   // named here rather than dropped silently; map.pcd and map.ply have them all.
   if (!octomap_outside.empty()) summary["octomap_points_outside_key_range"] = octomap_outside;
   summary["digest"] = run.digest.overall_hex;
-  if (Status st = write_json(out / "summary.json", summary); !st.ok()) return st;
-  return replay::write_digest_json((out / "digest.json").string(), run.digest);
+  // Last, each complete or absent: their presence means the run finished.
+  if (Status st = write_run_file_atomically(out / "summary.json",
+                                            [&](const std::string& p) { return write_json(p, summary); });
+      !st.ok())
+    return st;
+  return write_run_file_atomically(out / "digest.json",
+                                   [&](const std::string& p) { return replay::write_digest_json(p, run.digest); });
 }
 
 }  // namespace orthosonar::run

@@ -49,6 +49,7 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
   if (!src.ok()) return src.error();
   PreparedSweep p;
   p.metadata = (*src)->metadata();
+  p.recovery = (*src)->recovery();
   RunOptions options = options_in;
   auto config = effective_config(p.metadata, options_in, nullptr, (*src)->attachments());
   if (!config.ok()) return Error{fixture + ": " + config.error().message};

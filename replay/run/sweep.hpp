@@ -47,6 +47,7 @@ struct PreparedSweep {
   // cell (same outputs, 15 times less classifier work).
   std::shared_ptr<inference::InferenceFrameCache> inference_cache;
   mapping::RuntimeStats inference_runtime;  // inference per frame, in that single pass
+  replay::RecoveryReport recovery;  // whether the fixture was whole (replay::cut_input_warning)
 };
 Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions& options, int threads,
                                     const std::function<void(double)>& progress);
