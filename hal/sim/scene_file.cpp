@@ -59,6 +59,36 @@ struct SceneInputs {
 // memory and ray-traced; an extent from a typo must be an error, not an allocation.
 constexpr double kMaxSeafloorCells = 4.0e6;
 
+// Ray-triangle crossings (Moller-Trumbore) of the ray p + t d, t > 0.
+int scene_file_crossings(const TriangleMesh& mesh, const Eigen::Vector3d& p, const Eigen::Vector3d& d) {
+  int n = 0;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices[static_cast<size_t>(t[0])].cast<double>();
+    const Eigen::Vector3d e1 = mesh.vertices[static_cast<size_t>(t[1])].cast<double>() - a;
+    const Eigen::Vector3d e2 = mesh.vertices[static_cast<size_t>(t[2])].cast<double>() - a;
+    const Eigen::Vector3d h = d.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) < 1e-12) continue;
+    const Eigen::Vector3d sv = p - a;
+    const double u = sv.dot(h) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const Eigen::Vector3d q = sv.cross(e1);
+    const double v = d.dot(q) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    if (e2.dot(q) / det > 0.0) ++n;
+  }
+  return n;
+}
+
+// Inside a closed mesh: an odd number of crossings along three skew rays (an open surface,
+// a deck or a wall, is crossed an odd number of times along some rays only).
+bool scene_file_point_inside(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
+  for (const Eigen::Vector3d& d : {Eigen::Vector3d(0.0123, 0.0311, 1.0), Eigen::Vector3d(-0.0217, 0.0131, -1.0),
+                                   Eigen::Vector3d(1.0, 0.0173, 0.0291)})
+    if (scene_file_crossings(mesh, p, d.normalized()) % 2 == 0) return false;
+  return true;
+}
+
 Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
   Scene s;
   s.name = root["name"] ? root["name"].as<std::string>() : in.default_name;
@@ -67,6 +97,9 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
   if (root["seafloor_depth_m"]) s.seafloor_depth_m = root["seafloor_depth_m"].as<double>();
   if (!std::isfinite(s.vehicle_depth_m) || !std::isfinite(s.seafloor_depth_m))
     return Error{"vehicle_depth_m and seafloor_depth_m must be finite"};
+  if (!(s.vehicle_depth_m < s.seafloor_depth_m))
+    return Error{"vehicle_depth_m: " + std::to_string(s.vehicle_depth_m) + " m is not above the seafloor (seafloor_depth_m: " +
+                 std::to_string(s.seafloor_depth_m) + " m): the mission would run under the seabed"};
   MeshBuilder b(s.mesh);
   uint32_t next_id = 1;
   if (const auto f = root["seafloor"]) {
@@ -85,6 +118,7 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
                   seafloor_relief(s.seafloor_depth_m, relief, s.seed), {next_id++, SemanticClass::kSeafloor});
   }
   int index = 0;
+  std::vector<std::pair<std::string, TriangleMesh>> placed;  // each object, for the start check
   for (const auto& o : root["objects"]) {
     const std::string where = "objects[" + std::to_string(index++) + "]";
     if (!o["mesh"]) return Error{where + ": no 'mesh'"};
@@ -116,6 +150,7 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
       for (auto& v : mesh->vertices) v = (T * (scale * v.cast<double>())).cast<float>();
     }
     s.mesh.append(*mesh);
+    placed.emplace_back(where, std::move(*mesh));
   }
   if (root["route"] && root["route_file"]) return Error{"give either 'route' or 'route_file', not both"};
   if (const auto r = root["route"]) {
@@ -131,6 +166,17 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
     s.route = std::move(*route);
   }
   if (s.route.size() < 2) return Error{"the route needs at least two waypoints"};
+  const std::string route_key = root["route"] ? "route" : "route_file";
+  double route_length_m = 0.0;
+  for (size_t i = 1; i < s.route.size(); ++i)
+    route_length_m += std::hypot(s.route[i].x_m - s.route[i - 1].x_m, s.route[i].y_m - s.route[i - 1].y_m);
+  if (!(route_length_m > 0.0))
+    return Error{route_key + ": the waypoints are all at one point (route length 0 m); the route needs positive length"};
+  const Eigen::Vector3d start(s.route[0].x_m, s.route[0].y_m, -s.vehicle_depth_m);
+  for (const auto& [where, mesh] : placed)
+    if (scene_file_point_inside(mesh, start))
+      return Error{where + ": the vehicle starts inside this object (" + route_key + "[0] at vehicle_depth_m " +
+                   std::to_string(s.vehicle_depth_m) + " m); move the object or the route"};
   if (s.mesh.triangles.empty()) return Error{"the scene has no triangles (no objects and no seafloor)"};
   if (!s.mesh.valid()) return Error{"the scene mesh is invalid"};
   return s;
