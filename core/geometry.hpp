@@ -4,12 +4,16 @@
 // T_A_C = T_A_B * T_B_C.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <numbers>
 
 namespace orthosonar {
 
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Quat = Eigen::Quaterniond;
+
+// Radians per degree.
+inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 using SE3 = Eigen::Isometry3d;
 
 // Wraps an angle to (-pi, pi].

@@ -23,7 +23,7 @@ using namespace orthosonar;
 
 namespace {
 
-fs::path test_dir() {
+fs::path embedded_test_dir() {
   return orthosonar::replay::testing::case_dir("golden_embedded_scene", Catch::getResultCapture().getCurrentTestName(), true);
 }
 
@@ -54,15 +54,7 @@ fs::path write_site(const fs::path& dir) {
 }
 
 using Run = orthosonar::testing::CliRun;
-Run cli(const std::string& args) { return orthosonar::testing::run_cli(args, true); }
-
-std::string last_line(const std::string& s) {
-  std::istringstream in(s);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
-}
+Run embedded_cli(const std::string& args) { return orthosonar::testing::run_cli(args, true); }
 
 nlohmann::json read_json(const fs::path& p) {
   std::ifstream f(p);
@@ -76,20 +68,20 @@ struct Replayed {
 };
 
 Replayed replay_cli(const fs::path& fixture, const fs::path& out) {
-  const Run r = cli("replay '" + fixture.string() + "' -q --systems fusion -o '" + out.string() + "'");
+  const Run r = embedded_cli("replay '" + fixture.string() + "' -q --systems fusion -o '" + out.string() + "'");
   INFO(r.out);
   REQUIRE(r.code == 0);
-  return {last_line(r.out), read_json(out / "summary.json"), read_json(out / "fusion" / "metrics.json")};
+  return {orthosonar::testing::last_line(r.out), read_json(out / "summary.json"), read_json(out / "fusion" / "metrics.json")};
 }
 
 }  // namespace
 
 TEST_CASE("embedded scene: a copied fixture replays without its scene file", "[golden][embed]") {
-  const fs::path dir = test_dir();
+  const fs::path dir = embedded_test_dir();
   const fs::path yaml = write_site(dir / "site");
   const fs::path a = dir / "a" / "quay.mcap";
   fs::create_directories(a.parent_path());
-  const Run sim = cli("simulate --scene-file '" + yaml.string() + "' --duration " + std::to_string(kDuration) +
+  const Run sim = embedded_cli("simulate --scene-file '" + yaml.string() + "' --duration " + std::to_string(kDuration) +
                       " --resolution reduced -q -o '" + a.string() + "'");
   INFO(sim.out);
   REQUIRE(sim.code == 0);
@@ -128,7 +120,7 @@ TEST_CASE("embedded scene: a copied fixture replays without its scene file", "[g
   // The same site simulated from another folder gives a byte-identical fixture.
   const fs::path yaml2 = write_site(dir / "elsewhere" / "deeper");
   const fs::path c = dir / "c.mcap";
-  REQUIRE(cli("simulate --scene-file '" + yaml2.string() + "' --duration " + std::to_string(kDuration) +
+  REQUIRE(embedded_cli("simulate --scene-file '" + yaml2.string() + "' --duration " + std::to_string(kDuration) +
               " --resolution reduced -q -o '" + c.string() + "'")
               .code == 0);
   std::ifstream fb(b, std::ios::binary), fc(c, std::ios::binary);
@@ -137,11 +129,11 @@ TEST_CASE("embedded scene: a copied fixture replays without its scene file", "[g
 }
 
 TEST_CASE("embedded scene: an old-style fixture (no attachments) still replays", "[golden][embed]") {
-  const fs::path dir = test_dir();
+  const fs::path dir = embedded_test_dir();
   const fs::path yaml = write_site(dir / "site");
   // New style, through the CLI.
   const fs::path fresh = dir / "new.mcap";
-  REQUIRE(cli("simulate --scene-file '" + yaml.string() + "' --duration " + std::to_string(kDuration) +
+  REQUIRE(embedded_cli("simulate --scene-file '" + yaml.string() + "' --duration " + std::to_string(kDuration) +
               " --resolution reduced -q -o '" + fresh.string() + "'")
               .code == 0);
   // Old style, as the simulator wrote fixtures before scenes were embedded: the same

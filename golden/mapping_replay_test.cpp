@@ -26,25 +26,17 @@ namespace {
 
 // Each test case runs as its own ctest process, possibly in parallel with the others, so
 // each gets its own directory (and its own fixture) under golden_mapping/.
-fs::path test_dir() {
+fs::path mapping_test_dir() {
   return orthosonar::replay::testing::case_dir("golden_mapping", Catch::getResultCapture().getCurrentTestName());
 }
 
 using Run = orthosonar::testing::CliRun;
 
-Run run(const std::string& args) { return orthosonar::testing::run_cli(args, false); }
-
-std::string last_line(const std::string& s) {
-  std::istringstream in(s);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
-}
+Run mapping_cli(const std::string& args) { return orthosonar::testing::run_cli(args, false); }
 
 const fs::path& fixture() {
   static const fs::path f = [] {
-    const fs::path path = test_dir() / "harbor_short.mcap";
+    const fs::path path = mapping_test_dir() / "harbor_short.mcap";
     orthosonar::run::MissionSpec spec;
     spec.scene = "harbor";
     spec.duration_s = 15.0;
@@ -73,13 +65,13 @@ TEST_CASE("replay gives one digest over 5 runs and with 1 2 4 and 8 threads", "[
     REQUIRE(digest.size() == 64);
     if (first.empty()) {
       first = digest;
-      REQUIRE(orthosonar::run::write_run_outputs(*r, o, (test_dir() / "replay_0").string()).ok());
+      REQUIRE(orthosonar::run::write_run_outputs(*r, o, (mapping_test_dir() / "replay_0").string()).ok());
     }
     INFO("run " << i++ << ", " << threads << " threads");
     CHECK(digest == first);
   }
   // The outputs contract.
-  const fs::path out = test_dir() / "replay_0";
+  const fs::path out = mapping_test_dir() / "replay_0";
   for (const char* name : {"digest.json", "summary.json", "keyframes.csv", "traj_dr.tum", "traj_slam.tum",
                            "traj_truth.tum", "scene_mesh.ply", "fusion/map.pcd", "fusion/map.ply", "fusion/map.bt",
                            "fusion/metrics.json", "submap/map.pcd", "submap/map.ply", "submap/map.bt",
@@ -134,17 +126,17 @@ TEST_CASE("replay gives one digest over 5 runs and with 1 2 4 and 8 threads", "[
     }
   }
   // The CLI gives the library's digest.
-  const Run cli = run("replay " + f + " -q --threads 2 -o " + (test_dir() / "replay_cli").string());
+  const Run cli = mapping_cli("replay " + f + " -q --threads 2 -o " + (mapping_test_dir() / "replay_cli").string());
   REQUIRE(cli.code == 0);
-  CHECK(last_line(cli.out) == first);
+  CHECK(orthosonar::testing::last_line(cli.out) == first);
 }
 
 TEST_CASE("verify accepts the digest and names a tampered output", "[golden]") {
   const std::string f = fixture().string();
-  const fs::path out = test_dir() / "verify_base";
-  REQUIRE(run("replay " + f + " -q -o " + out.string()).code == 0);
+  const fs::path out = mapping_test_dir() / "verify_base";
+  REQUIRE(mapping_cli("replay " + f + " -q -o " + out.string()).code == 0);
   const fs::path digest = out / "digest.json";
-  CHECK(run("verify " + f + " --expect " + digest.string()).code == 0);
+  CHECK(mapping_cli("verify " + f + " --expect " + digest.string()).code == 0);
 
   std::ifstream in(digest);
   std::stringstream ss;
@@ -154,11 +146,11 @@ TEST_CASE("verify accepts the digest and names a tampered output", "[golden]") {
   REQUIRE(at != std::string::npos);
   const size_t hex = at + std::string("\"submap/map\": \"").size();
   text[hex] = text[hex] == '0' ? '1' : '0';
-  const fs::path tampered = test_dir() / "tampered_digest.json";
+  const fs::path tampered = mapping_test_dir() / "tampered_digest.json";
   std::ofstream(tampered) << text;
-  const Run r = run("verify " + f + " --expect " + tampered.string());
+  const Run r = mapping_cli("verify " + f + " --expect " + tampered.string());
   CHECK(r.code == 1);
   CHECK(r.out.find("submap/map") != std::string::npos);
   CHECK(r.out.find("fusion/map:") == std::string::npos);
-  CHECK(run("verify " + f + " --expect " + (test_dir() / "no_such_digest.json").string()).code == 2);
+  CHECK(mapping_cli("verify " + f + " --expect " + (mapping_test_dir() / "no_such_digest.json").string()).code == 2);
 }

@@ -28,7 +28,7 @@ std::vector<uint8_t> valid_file(const std::string& path, bool compress = true) {
   return read_bytes(path);
 }
 
-uint64_t le64(const std::vector<uint8_t>& b, size_t at) {
+uint64_t read_le64(const std::vector<uint8_t>& b, size_t at) {
   uint64_t v = 0;
   for (size_t i = 0; i < 8; ++i) v |= static_cast<uint64_t>(b[at + i]) << (8 * i);
   return v;
@@ -37,7 +37,7 @@ uint64_t le64(const std::vector<uint8_t>& b, size_t at) {
 // Offset of the Data End record (found through the footer).
 size_t data_end_offset(const std::vector<uint8_t>& b) {
   const size_t footer = b.size() - 8 - 29;
-  return static_cast<size_t>(le64(b, footer + 9)) - 13;
+  return static_cast<size_t>(read_le64(b, footer + 9)) - 13;
 }
 
 // Recomputes the data section CRC so a test reaches the check behind it.
@@ -50,7 +50,7 @@ void fix_data_crc(std::vector<uint8_t>& b) {
 // The first chunk record's offset.
 size_t first_chunk(const std::vector<uint8_t>& b) {
   size_t pos = 8;
-  while (b[pos] != 0x06) pos += 9 + static_cast<size_t>(le64(b, pos + 1));
+  while (b[pos] != 0x06) pos += 9 + static_cast<size_t>(read_le64(b, pos + 1));
   return pos;
 }
 
@@ -85,7 +85,7 @@ TEST_CASE("bad input unsupported version", "[unit]") {
 TEST_CASE("bad input unsupported opcode", "[unit]") {
   const std::string dir = case_dir("errors", Catch::getResultCapture().getCurrentTestName()).string();
   auto b = valid_file(dir + "/ok.mcap");
-  const size_t second = 8 + 9 + static_cast<size_t>(le64(b, 9));
+  const size_t second = 8 + 9 + static_cast<size_t>(read_le64(b, 9));
   b[second] = 0x33;
   CHECK(expect_error(dir + "/opcode.mcap", b).find("opcode 0x33 at byte offset " + std::to_string(second)) !=
         std::string::npos);

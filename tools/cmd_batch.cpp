@@ -36,7 +36,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace batch;  // NOLINT: this file is the batch front end
 
-int fail(const std::string& what, const std::string& m) {
+int batch_fail(const std::string& what, const std::string& m) {
   std::cerr << "orthosonar batch " << what << ": " << m << "\n";
   return 2;
 }
@@ -78,8 +78,8 @@ struct PlanArgs {
 };
 
 int finish_plan(Result<Plan> plan, bool replace) {
-  if (!plan.ok()) return fail("plan", plan.error().message);
-  if (Status s = write_plan(*plan, replace); !s.ok()) return fail("plan", s.error().message);
+  if (!plan.ok()) return batch_fail("plan", plan.error().message);
+  if (Status s = write_plan(*plan, replace); !s.ok()) return batch_fail("plan", s.error().message);
   std::cout << "plan: " << plan->kind << ", " << plan->tasks.size() << " tasks in " << plan->dir << "\n";
   for (const auto& t : plan->tasks) std::cout << "  " << t.index << " " << t.name << "\n";
   std::cout << "run: orthosonar batch local " << plan->dir << " -j N, or orthosonar batch slurm " << plan->dir
@@ -93,11 +93,11 @@ int plan_sweep_cmd(const PlanArgs& a) {
   for (std::string item; std::getline(ss, item, ',');)
     if (!item.empty()) s.scenes.push_back(item);
   auto seeds = run::parse_seeds(a.seeds);
-  if (!seeds.ok()) return fail("plan", "--" + seeds.error().message);
+  if (!seeds.ok()) return batch_fail("plan", "--" + seeds.error().message);
   s.cells = a.cells;
   s.cells_per_task = a.cells_per_task;
   auto sim = read_file_text(a.sim_config);
-  if (!sim.ok()) return fail("plan", "--sim-config: " + sim.error().message);
+  if (!sim.ok()) return batch_fail("plan", "--sim-config: " + sim.error().message);
   // A flag given wins over --sim-config, the file over the flag's default (as sweep, simulate).
   run::MissionFlags flags;
   flags.duration_s = a.duration_s;
@@ -107,12 +107,12 @@ int plan_sweep_cmd(const PlanArgs& a) {
   flags.seeds = *seeds;
   flags.seeds_given = a.seeds_given;
   if (Status st = run::resolve_mission_flags(*sim, flags); !st.ok())
-    return fail("plan", "--sim-config " + a.sim_config + ": " + st.error().message);
+    return batch_fail("plan", "--sim-config " + a.sim_config + ": " + st.error().message);
   s.seeds = flags.seeds;
   s.duration_s = flags.duration_s;
   s.resolution = flags.resolution;
   auto cfg = read_file_text(a.run_config);
-  if (!cfg.ok()) return fail("plan", "--config: " + cfg.error().message);
+  if (!cfg.ok()) return batch_fail("plan", "--config: " + cfg.error().message);
   s.sim_config_yaml = *sim;
   s.run_config_yaml = *cfg;
   s.systems = a.systems;
@@ -125,7 +125,7 @@ int plan_verify_cmd(const PlanArgs& a) {
   VerifyPlanSpec s;
   s.inputs = a.inputs;
   auto cfg = read_file_text(a.run_config);
-  if (!cfg.ok()) return fail("plan", "--config: " + cfg.error().message);
+  if (!cfg.ok()) return batch_fail("plan", "--config: " + cfg.error().message);
   s.run_config_yaml = *cfg;
   s.systems = a.verify_systems;
   return finish_plan(plan_verify(s, a.out), a.replace);
@@ -140,7 +140,7 @@ int plan_golden_cmd(const PlanArgs& a) {
 
 // ---------------------------------------------------------------- run, merge, status
 
-struct RunArgs {
+struct BatchRunArgs {
   std::string plan;
   long task = -1;
   int threads = 0;
@@ -149,11 +149,11 @@ struct RunArgs {
   std::string out;
 };
 
-int run_cmd(const RunArgs& a) {
+int run_cmd(const BatchRunArgs& a) {
   auto plan = load_plan(a.plan);
-  if (!plan.ok()) return fail("run", plan.error().message);
+  if (!plan.ok()) return batch_fail("run", plan.error().message);
   auto index = task_index(*plan, a.task >= 0 ? std::optional<long>(a.task) : std::nullopt);
-  if (!index.ok()) return fail("run", index.error().message);
+  if (!index.ok()) return batch_fail("run", index.error().message);
   RunTaskOptions o;
   o.threads = a.threads > 0 ? a.threads : default_threads();
   o.attempt = a.attempt;
@@ -161,15 +161,15 @@ int run_cmd(const RunArgs& a) {
   return run_task(*plan, *index, o);
 }
 
-int merge_cmd(const RunArgs& a) {
+int merge_cmd(const BatchRunArgs& a) {
   auto plan = load_plan(a.plan);
-  if (!plan.ok()) return fail("merge", plan.error().message);
+  if (!plan.ok()) return batch_fail("merge", plan.error().message);
   return merge(*plan, a.out);
 }
 
-int status_cmd(const RunArgs& a) {
+int status_cmd(const BatchRunArgs& a) {
   auto plan = load_plan(a.plan);
-  if (!plan.ok()) return fail("status", plan.error().message);
+  if (!plan.ok()) return batch_fail("status", plan.error().message);
   std::map<TaskState, int> n;
   for (const auto& t : plan->tasks) {
     const TaskStatus st = task_status(*plan, t, true);
@@ -195,7 +195,7 @@ struct LocalArgs {
 
 int local_cmd(const LocalArgs& a) {
   auto plan = load_plan(a.plan);
-  if (!plan.ok()) return fail("local", plan.error().message);
+  if (!plan.ok()) return batch_fail("local", plan.error().message);
   const int jobs = std::max(1, a.jobs);
   const std::string exe = self_executable();
   std::deque<std::pair<size_t, int>> queue;  // task, attempt
@@ -215,7 +215,7 @@ int local_cmd(const LocalArgs& a) {
       auto pid = spawn_logged({exe, "batch", "run", plan->dir, "--task", std::to_string(index), "--attempt",
                                std::to_string(attempt), "--threads", std::to_string(std::max(1, a.threads))},
                               log);
-      if (!pid.ok()) return fail("local", pid.error().message);
+      if (!pid.ok()) return batch_fail("local", pid.error().message);
       running[*pid] = {index, attempt, std::chrono::steady_clock::now()};
     }
     const auto [pid, code] = wait_any();
@@ -462,10 +462,10 @@ int follow(const Plan& plan, const std::string& array_id, const std::string& mer
 
 int slurm_cmd(const SlurmArgs& a) {
   auto plan = load_plan(a.plan);
-  if (!plan.ok()) return fail("slurm", plan.error().message);
-  if (plan->tasks.empty()) return fail("slurm", "the plan has no tasks");
+  if (!plan.ok()) return batch_fail("slurm", plan.error().message);
+  if (plan->tasks.empty()) return batch_fail("slurm", "the plan has no tasks");
   auto scripts = write_sbatch(*plan, a);
-  if (!scripts.ok()) return fail("slurm", scripts.error().message);
+  if (!scripts.ok()) return batch_fail("slurm", scripts.error().message);
   std::cout << "slurm: job array " << scripts->first << " (" << plan->tasks.size() << " tasks), merge "
             << scripts->second << "\n";
   if (!a.submit) {
@@ -475,9 +475,9 @@ int slurm_cmd(const SlurmArgs& a) {
   }
   const auto earlier_failures = failure_stamps(*plan);
   auto array_id = sbatch({scripts->first});
-  if (!array_id.ok()) return fail("slurm", array_id.error().message);
+  if (!array_id.ok()) return batch_fail("slurm", array_id.error().message);
   auto merge_id = sbatch({"--dependency=afterany:" + *array_id, scripts->second});
-  if (!merge_id.ok()) return fail("slurm", "array " + *array_id + " submitted, but the merge job not: " + merge_id.error().message);
+  if (!merge_id.ok()) return batch_fail("slurm", "array " + *array_id + " submitted, but the merge job not: " + merge_id.error().message);
   {
     std::ofstream f(fs::path(plan->dir) / "slurm" / "jobs.json", std::ios::trunc);
     f << nlohmann::json{{"array", *array_id}, {"merge", *merge_id}}.dump(2) << "\n";
@@ -489,7 +489,7 @@ int slurm_cmd(const SlurmArgs& a) {
 
 // ---------------------------------------------------------------- registration
 
-const bool registered = register_command(
+const bool registered_batch = register_command(
     {"batch", "Shard work into independent tasks: plan, run, merge; run them locally or as a Slurm job array",
      [](CLI::App& sub) -> std::function<int()> {
        sub.require_subcommand(1);
@@ -530,7 +530,7 @@ const bool registered = register_command(
        pg->add_option("scenarios", pa->scenarios, "Scenario files (default: golden/scenarios/*.yaml)");
        pg->add_flag("--no-images", pa->no_images, "Skip the rendered-image checks (no X display on the nodes)");
 
-       auto ra = std::make_shared<RunArgs>();
+       auto ra = std::make_shared<BatchRunArgs>();
        auto* run = sub.add_subcommand("run", "Run one task of a plan");
        run->add_option("plan", ra->plan, "Plan folder")->required();
        run->add_option("--task", ra->task, "Task index (default: $SLURM_ARRAY_TASK_ID or $JOB_COMPLETION_INDEX)");

@@ -64,7 +64,7 @@ int run_config(const ConfigArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_config = register_command(
     {"config",
      "Print the effective run configuration as JSON (defaults < --fixture's recorded values < --config < flags)",
      [](CLI::App& sub) -> std::function<int()> {

@@ -121,7 +121,7 @@ int run_demo(const DemoOptions& o) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_demo = register_command(
     {"demo", "Run the built-in demo mission (simulated) end to end, writing maps and a report",
      [](CLI::App& sub) -> std::function<int()> {
        auto o = std::make_shared<DemoOptions>();

@@ -105,7 +105,7 @@ int run_emulate(const EmulateArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_emulate = register_command(
     {"emulate", "Serve a fixture's data over the real device protocols on loopback (device emulators)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<EmulateArgs>();

@@ -42,7 +42,7 @@ int run_export(const ExportArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_export = register_command(
     {"export", "Export a fixture as a ROS 1 bag or a ROS 2 MCAP recording (authors' or standard types)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<ExportArgs>();

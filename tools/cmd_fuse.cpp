@@ -152,7 +152,7 @@ int run_fuse(const FuseArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_fuse = register_command(
     {"fuse", "Fuse every h/v ping pair of a fixture into 3D points (PCD per pair, vehicle frame)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<FuseArgs>();

@@ -490,7 +490,7 @@ int run_golden(GoldenArgs a) {
   return 2;
 }
 
-const bool registered = register_command(
+const bool registered_golden = register_command(
     {"golden", "Run, check or update golden scenarios (simulated missions with expected digests, metrics and images)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<GoldenArgs>();

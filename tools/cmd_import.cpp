@@ -109,7 +109,7 @@ int run_import(const ImportArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_import = register_command(
     {"import", "Import a ROS 1 bag or a ROS 2 MCAP recording as a fixture (--list: show topics and mapping)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<ImportArgs>();

@@ -134,7 +134,7 @@ int run_inspect(const InspectOptions& o) {
   return s->recovery.complete ? 0 : 1;
 }
 
-const bool registered = register_command(
+const bool registered_inspect = register_command(
     {"inspect", "Describe a fixture (.mcap) or a raw device capture (--protocol): channels, rates, gaps, metadata; decoded messages",
      [](CLI::App& sub) -> std::function<int()> {
        auto o = std::make_shared<InspectOptions>();

@@ -72,7 +72,7 @@ struct CheckArgs {
   int every = 1;           // fuse every n-th pair
 };
 
-int fail(const std::string& msg) {
+int check_fail(const std::string& msg) {
   std::cerr << "orthosonar perception-check: " << msg << "\n";
   return 2;
 }
@@ -511,16 +511,16 @@ int run_check(const CheckArgs& a) {
   std::vector<RealPing> real;
   for (const std::string& path : a.real_pings) {
     auto r = load_real_ping(path);
-    if (!r) return fail(r.error().message);
+    if (!r) return check_fail(r.error().message);
     real.push_back(std::move(*r));
   }
   RunConfig run;
   std::string run_yaml;
   if (!a.run_config.empty()) {
     auto text = read_config_text(a.run_config);
-    if (!text) return fail(text.error().message);
+    if (!text) return check_fail(text.error().message);
     run_yaml = *text;
-    if (Status s = load_config_file(a.run_config, run); !s.ok()) return fail(s.error().message);
+    if (Status s = load_config_file(a.run_config, run); !s.ok()) return check_fail(s.error().message);
   }
   std::vector<sim::SonarProfile> profiles;
   if (a.fixture.empty()) {
@@ -528,7 +528,7 @@ int run_check(const CheckArgs& a) {
       profiles = {sim::SonarProfile::kField, sim::SonarProfile::kClean};
     } else {
       auto p = sim::parse_profile(a.profile);
-      if (!p) return fail("--profile: " + p.error().message + " (field, clean or both)");
+      if (!p) return check_fail("--profile: " + p.error().message + " (field, clean or both)");
       profiles = {*p};
     }
   }
@@ -538,7 +538,7 @@ int run_check(const CheckArgs& a) {
   double gate_real = run.pipeline.fusion.cfar_v.gate;  // the M1200d is the vertical head
   if (!a.fixture.empty()) {
     auto src = replay::FixtureSource::open(a.fixture);
-    if (!src) return fail(src.error().message);
+    if (!src) return check_fail(src.error().message);
     note_input(a.fixture, (*src)->recovery());
     const auto& md = (*src)->metadata();
     const auto get = [&](const char* k) {
@@ -546,14 +546,14 @@ int run_check(const CheckArgs& a) {
       return it == md.end() ? std::string() : it->second;
     };
     if (get("labels") != "true")
-      return fail(a.fixture + ": the fixture has no per-pixel labels (record it with `orthosonar simulate --labels`)");
+      return check_fail(a.fixture + ": the fixture has no per-pixel labels (record it with `orthosonar simulate --labels`)");
     auto scene = sim::scene_from_fixture(md, replay::attachment_files((*src)->attachments()));
-    if (!scene) return fail(a.fixture + ": no scene for the mesh distance: " + scene.error().message);
+    if (!scene) return check_fail(a.fixture + ": no scene for the mesh distance: " + scene.error().message);
     RunOptions options;
     options.config_yaml = run_yaml;
     options.config_origin = a.run_config;
     auto resolved = effective_config(md, options, nullptr, (*src)->attachments());
-    if (!resolved) return fail(a.fixture + ": " + resolved.error().message);
+    if (!resolved) return check_fail(a.fixture + ": " + resolved.error().message);
     const perception::FusionConfig cfg = resolved->pipeline.fusion;
     gate_real = cfg.cfar_v.gate;
     Measured m;
@@ -561,7 +561,7 @@ int run_check(const CheckArgs& a) {
     m.label = "fixture";
     m.heading = "fixture " + a.fixture + " (profile " + m.profile + ", as recorded)";
     m.fusion.keep_points = !a.cloud_path.empty();
-    if (Status s = measure(**src, cfg, scene->mesh, a.every, a.fixture, m); !s) return fail(s.error().message);
+    if (Status s = measure(**src, cfg, scene->mesh, a.every, a.fixture, m); !s) return check_fail(s.error().message);
     std::printf("perception-check: fixture %s: scene %s, %s resolution, 1 pair in %d fused\n", a.fixture.c_str(),
                 scene->name.c_str(), get("resolution").c_str(), a.every);
     doc["source"] = {{"fixture", a.fixture},
@@ -575,9 +575,9 @@ int run_check(const CheckArgs& a) {
     results.push_back(std::move(m));
   } else {
     auto scene = a.scene_file.empty() ? sim::builtin_scene(a.scene, 1) : sim::load_scene_file(a.scene_file);
-    if (!scene) return fail(scene.error().message);
+    if (!scene) return check_fail(scene.error().message);
     auto resolution = sim::parse_resolution(a.resolution);
-    if (!resolution) return fail(resolution.error().message);
+    if (!resolution) return check_fail(resolution.error().message);
     std::printf("perception-check: scene %s, %.1f s, seed %llu, %s resolution, 1 pair in %d fused\n",
                 scene->name.c_str(), a.duration_s, static_cast<unsigned long long>(a.seed),
                 sim::resolution_name(*resolution), a.every);
@@ -597,9 +597,9 @@ int run_check(const CheckArgs& a) {
       sc.render_threads = 2;
       sc.resolution = *resolution;
       if (!a.sim_config.empty())
-        if (Status s = sim::load_sim_config_file(a.sim_config, sc); !s) return fail(s.error().message);
+        if (Status s = sim::load_sim_config_file(a.sim_config, sc); !s) return check_fail(s.error().message);
       sc.labels = true;
-      if (Status s = sim::validate(sc); !s) return fail(s.error().message);
+      if (Status s = sim::validate(sc); !s) return check_fail(s.error().message);
       perception::FusionConfig cfg = run.pipeline.fusion;
       cfg.T_V_h = sc.T_V_h;
       cfg.T_V_v = sc.T_V_v;
@@ -612,7 +612,7 @@ int run_check(const CheckArgs& a) {
       sim::Scene copy = *scene;
       const TriangleMesh mesh = copy.mesh;
       sim::Simulator simulator(std::move(copy), sc);
-      if (Status s = measure(simulator, cfg, mesh, a.every, simulator.describe(), m); !s) return fail(s.error().message);
+      if (Status s = measure(simulator, cfg, mesh, a.every, simulator.describe(), m); !s) return check_fail(s.error().message);
       results.push_back(std::move(m));
     }
   }
@@ -621,7 +621,7 @@ int run_check(const CheckArgs& a) {
   if (!a.cloud_path.empty())
     for (const Measured& m : results) {
       const std::string path = cloud_path_for(a.cloud_path, m.label, results.size());
-      if (Status s = write_cloud(path, m.fusion); !s) return fail(s.error().message);
+      if (Status s = write_cloud(path, m.fusion); !s) return check_fail(s.error().message);
       std::printf("  wrote %zu true-pose fused points with their mesh distance -> %s\n", m.fusion.points.size(),
                   path.c_str());
     }
@@ -659,12 +659,12 @@ int run_check(const CheckArgs& a) {
     std::ofstream out(a.json_path, std::ios::binary | std::ios::trunc);
     out << doc.dump(2) << "\n";
     out.close();
-    if (!out) return fail("cannot write '" + a.json_path + "'");
+    if (!out) return check_fail("cannot write '" + a.json_path + "'");
   }
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_perception_check = register_command(
     {"perception-check",
      "Measure CFAR and fusion against simulator truth (labels, true poses, mesh distance), per image profile",
      [](CLI::App& sub) -> std::function<int()> {

@@ -47,7 +47,7 @@ int run_replay(const ReplayArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_replay = register_command(
     {"replay", "Replay a fixture through the pipeline, write maps, metrics and the output digest",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<ReplayArgs>();

@@ -29,7 +29,7 @@ int run_report(ReportCmdOptions o) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_report = register_command(
     {"report", "Write report.html (metrics, runtime, map renders, heat maps, golden comparison) for an output directory",
      [](CLI::App& sub) -> std::function<int()> {
        auto o = std::make_shared<ReportCmdOptions>();

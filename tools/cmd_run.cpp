@@ -184,7 +184,7 @@ int run_live(const RunArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_run = register_command(
     {"run", "Run the pipeline on live devices (devices.yaml), recording every consumed event",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<RunArgs>();

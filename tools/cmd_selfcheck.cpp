@@ -45,7 +45,7 @@ int run_selfcheck() {
 
 namespace {
 
-const bool registered = register_command(
+const bool registered_selfcheck = register_command(
     {"selfcheck", "Check that the build links, its numerics are the reference ones and every numeric pin took",
      [](CLI::App&) -> std::function<int()> { return run_selfcheck; }});
 

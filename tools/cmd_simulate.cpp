@@ -47,7 +47,7 @@ struct SimulateArgs {
   bool duration_given = false, seed_given = false, resolution_given = false, threads_given = false;
 };
 
-int fail(const std::string& msg) {
+int simulate_fail(const std::string& msg) {
   std::cerr << "orthosonar simulate: " << msg << "\n";
   return 2;
 }
@@ -65,15 +65,15 @@ int run_simulate(const SimulateArgs& a) {
   std::optional<sim::SonarProfile> profile;
   if (!a.profile.empty()) {  // before the config file, whose keys refine the profile
     auto p = sim::parse_profile(a.profile);
-    if (!p) return fail(p.error().message);
+    if (!p) return simulate_fail(p.error().message);
     profile = *p;
     cfg.profile = *p;
     sim::apply_profile(cfg.sonar, cfg.profile);
   }
   if (!a.config_yaml.empty())
-    if (Status s = sim::load_sim_config_file(a.config_yaml, cfg); !s) return fail(s.error().message);
+    if (Status s = sim::load_sim_config_file(a.config_yaml, cfg); !s) return simulate_fail(s.error().message);
   if (profile && cfg.profile != *profile)
-    return fail("--profile " + a.profile + " contradicts '" + a.config_yaml + "' (profile: " +
+    return simulate_fail("--profile " + a.profile + " contradicts '" + a.config_yaml + "' (profile: " +
                 sim::profile_name(cfg.profile) + ")");
   if (a.duration_given) cfg.duration_s = a.duration_s;
   if (a.seed_given) cfg.seed = a.seed;
@@ -81,22 +81,22 @@ int run_simulate(const SimulateArgs& a) {
   if (a.threads_given) cfg.render_threads = a.threads;
   if (a.resolution_given) {
     auto res = sim::parse_resolution(a.resolution);
-    if (!res) return fail(res.error().message);
+    if (!res) return simulate_fail(res.error().message);
     cfg.resolution = *res;
   }
-  if (Status s = sim::validate(cfg); !s) return fail(s.error().message);
+  if (Status s = sim::validate(cfg); !s) return simulate_fail(s.error().message);
   auto scene = a.scene_file.empty() ? sim::builtin_scene(a.scene, a.scene_seed) : sim::load_scene_file(a.scene_file);
-  if (!scene) return fail(scene.error().message);
+  if (!scene) return simulate_fail(scene.error().message);
   if (!a.export_mesh.empty()) {
-    if (Status s = sim::write_mesh_ply(scene->mesh, a.export_mesh); !s) return fail(s.error().message);
+    if (Status s = sim::write_mesh_ply(scene->mesh, a.export_mesh); !s) return simulate_fail(s.error().message);
   }
   const auto t0 = std::chrono::steady_clock::now();
   if (!a.snapshot_pose.empty()) {
     // One ping of each sonar with the vehicle at a chosen pose (vehicle depth, level).
     std::istringstream in(a.snapshot_pose);
     double x = 0, y = 0, yaw_deg = 0;
-    if (!(in >> x >> y >> yaw_deg)) return fail("--snapshot-pose expects 'x y yaw_deg'");
-    if (a.snapshot_dir.empty()) return fail("--snapshot-pose needs --snapshot-dir");
+    if (!(in >> x >> y >> yaw_deg)) return simulate_fail("--snapshot-pose expects 'x y yaw_deg'");
+    if (a.snapshot_dir.empty()) return simulate_fail("--snapshot-pose needs --snapshot-dir");
     sim::SonarModelConfig sonar = cfg.sonar;
     sonar.seafloor_depth_m = scene->seafloor_depth_m;
     const SE3 T_W_V = se3_from_xyz_rpy(x, y, -scene->vehicle_depth_m, 0, 0, yaw_deg * std::numbers::pi / 180.0);
@@ -126,13 +126,13 @@ int run_simulate(const SimulateArgs& a) {
       cv::Mat all;
       cv::vconcat(rows, all);
       const auto path = (std::filesystem::path(a.snapshot_dir) / (scene->name + "_profiles.jpg")).string();
-      if (!cv::imwrite(path, all, {cv::IMWRITE_JPEG_QUALITY, 85})) return fail("cannot write JPEG '" + path + "'");
+      if (!cv::imwrite(path, all, {cv::IMWRITE_JPEG_QUALITY, 85})) return simulate_fail("cannot write JPEG '" + path + "'");
       if (!a.quiet) std::printf("wrote %s\n", path.c_str());
       if (!a.real_ping.empty()) {
         auto f = read_oculus_ping_file(a.real_ping, "--real-ping");
-        if (!f) return fail(f.error().message);
+        if (!f) return simulate_fail(f.error().message);
         const auto real_path = (std::filesystem::path(a.snapshot_dir) / "oculus_m1200d_real.png").string();
-        if (Status s = sim::write_fan_png(f->ping, real_path, 560, true); !s) return fail(s.error().message);
+        if (Status s = sim::write_fan_png(f->ping, real_path, 560, true); !s) return simulate_fail(s.error().message);
         if (!a.quiet) std::printf("wrote %s\n", real_path.c_str());
       }
       return 0;
@@ -142,7 +142,7 @@ int run_simulate(const SimulateArgs& a) {
       const bool h = mount == SonarMount::kHorizontal;
       const auto r = renderer.render(T_W_V * (h ? cfg.T_V_h : cfg.T_V_v), mount, Time::from_s(0), 0);
       const auto path = (std::filesystem::path(a.snapshot_dir) / (scene->name + (h ? "_horizontal.png" : "_vertical.png"))).string();
-      if (Status s = sim::write_fan_png(r.ping, path, 800); !s) return fail(s.error().message);
+      if (Status s = sim::write_fan_png(r.ping, path, 800); !s) return simulate_fail(s.error().message);
       if (!a.quiet) std::printf("wrote %s\n", path.c_str());
     }
     return 0;
@@ -156,13 +156,13 @@ int run_simulate(const SimulateArgs& a) {
     replay::WriterOptions wo;
     wo.zstd_level = a.zstd_level;
     auto w = replay::FixtureWriter::open(partial, simulator.metadata(), wo);
-    if (!w) return fail(w.error().message);
+    if (!w) return simulate_fail(w.error().message);
     writer = std::move(*w);
     // The scene goes into the fixture (mesh, route, classes): replay needs no scene file.
     auto files = sim::embed_scene(simulator.scene());
-    if (!files) return fail(files.error().message);
+    if (!files) return simulate_fail(files.error().message);
     for (auto& f : *files)
-      if (Status s = writer->attach({f.name, f.media_type, std::move(f.data)}); !s) return fail(s.error().message);
+      if (Status s = writer->attach({f.name, f.media_type, std::move(f.data)}); !s) return simulate_fail(s.error().message);
   }
   std::vector<double> snaps = a.snapshot_at_s;
   std::sort(snaps.begin(), snaps.end());
@@ -171,7 +171,7 @@ int run_simulate(const SimulateArgs& a) {
   uint64_t events = 0;
   while (true) {
     hal::Pulled p = simulator.next();
-    if (p.error) return fail(p.error->message);
+    if (p.error) return simulate_fail(p.error->message);
     if (p.end_of_stream) break;
     const Event& e = *p.event;
     ++counts[static_cast<size_t>(e.channel)];
@@ -185,19 +185,19 @@ int run_simulate(const SimulateArgs& a) {
                       m == 0 ? "horizontal" : "vertical", snaps[next_snap[m]]);
         std::filesystem::create_directories(a.snapshot_dir);
         const auto path = (std::filesystem::path(a.snapshot_dir) / name).string();
-        if (Status s = sim::write_fan_png(ping, path, 800); !s) return fail(s.error().message);
+        if (Status s = sim::write_fan_png(ping, path, 800); !s) return simulate_fail(s.error().message);
         ++next_snap[m];
       }
     }
     if (writer) {
-      if (Status s = writer->write(e); !s) return fail(s.error().message);
+      if (Status s = writer->write(e); !s) return simulate_fail(s.error().message);
     }
   }
   if (writer) {
-    if (Status s = writer->close(); !s) return fail(s.error().message);
+    if (Status s = writer->close(); !s) return simulate_fail(s.error().message);
     std::error_code ec;
     std::filesystem::rename(partial, a.out, ec);
-    if (ec) return fail("cannot rename '" + partial + "' to '" + a.out + "': " + ec.message());
+    if (ec) return simulate_fail("cannot rename '" + partial + "' to '" + a.out + "': " + ec.message());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!a.quiet) {
@@ -214,7 +214,7 @@ int run_simulate(const SimulateArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_simulate = register_command(
     {"simulate", "Simulate a mission in a built-in or user scene and write a fixture (.mcap)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<SimulateArgs>();

@@ -43,7 +43,7 @@ struct SweepArgs {
   bool duration_given = false, resolution_given = false, seeds_given = false;
 };
 
-int fail(const std::string& m) {
+int sweep_fail(const std::string& m) {
   std::cerr << "orthosonar sweep: " << m << "\n";
   return 2;
 }
@@ -85,20 +85,20 @@ Result<SweepReport> sweep_one(const SweepArgs& a, const RunOptions& options, con
 int run_sweep(SweepArgs a) {
   namespace fs = std::filesystem;
   auto options = run_options_from(a.run);
-  if (!options.ok()) return fail(options.error().message);
+  if (!options.ok()) return sweep_fail(options.error().message);
   auto cells = parse_cells(a.cells);
-  if (!cells.ok()) return fail(cells.error().message);
+  if (!cells.ok()) return sweep_fail(cells.error().message);
   auto seeds = parse_seeds(a.seeds);
-  if (!seeds.ok()) return fail(seeds.error().message);
+  if (!seeds.ok()) return sweep_fail(seeds.error().message);
   const auto scenes = split_scenes(a.scene);
-  if (scenes.empty()) return fail("--scene: no scene given");
+  if (scenes.empty()) return sweep_fail("--scene: no scene given");
   std::error_code ec;
   fs::create_directories(a.out_dir, ec);
-  if (ec) return fail("cannot create '" + a.out_dir + "': " + ec.message());
+  if (ec) return sweep_fail("cannot create '" + a.out_dir + "': " + ec.message());
 
   if (!a.fixture.empty()) {  // a given fixture: one sweep into out_dir
     auto report = sweep_one(a, *options, a.fixture, *cells, a.out_dir);
-    if (!report.ok()) return fail(report.error().message);
+    if (!report.ok()) return sweep_fail(report.error().message);
     std::cout << sweep_tables_markdown(*report);
     std::cerr << "sweep: outputs in " << a.out_dir << "\n";
     return 0;
@@ -106,7 +106,7 @@ int run_sweep(SweepArgs a) {
   std::string sim_yaml;
   if (!a.sim_config.empty()) {
     std::ifstream f(a.sim_config);
-    if (!f) return fail("cannot open '" + a.sim_config + "'");
+    if (!f) return sweep_fail("cannot open '" + a.sim_config + "'");
     std::stringstream ss;
     ss << f.rdbuf();
     sim_yaml = ss.str();
@@ -118,10 +118,10 @@ int run_sweep(SweepArgs a) {
   flags.resolution_given = a.resolution_given;
   flags.seeds = *seeds;
   flags.seeds_given = a.seeds_given;
-  if (Status s = resolve_mission_flags(sim_yaml, flags); !s.ok()) return fail(a.sim_config + ": " + s.error().message);
+  if (Status s = resolve_mission_flags(sim_yaml, flags); !s.ok()) return sweep_fail(a.sim_config + ": " + s.error().message);
   *seeds = flags.seeds;
   auto res = sim::parse_resolution(flags.resolution);
-  if (!res.ok()) return fail(res.error().message);
+  if (!res.ok()) return sweep_fail(res.error().message);
   // One scene and one seed write into out_dir itself (as always); several write one folder
   // per (scene, seed) and seeds.md / seeds.json over them (write_sweep_set).
   const bool set = scenes.size() > 1 || seeds->size() > 1;
@@ -138,27 +138,27 @@ int run_sweep(SweepArgs a) {
       spec.sim_config_yaml = sim_yaml;
       const std::string dir = set ? (fs::path(a.out_dir) / sweep_set_dir(scene, seed)).string() : a.out_dir;
       fs::create_directories(dir, ec);
-      if (ec) return fail("cannot create '" + dir + "': " + ec.message());
+      if (ec) return sweep_fail("cannot create '" + dir + "': " + ec.message());
       const std::string fixture = (fs::path(dir) / (scene + ".mcap")).string();
       auto made = ensure_mission_fixture(spec, fixture,
                                          [&](double f) { print_progress("simulate", f, scene + " seed " + std::to_string(seed)); });
-      if (!made.ok()) return fail(made.error().message);
+      if (!made.ok()) return sweep_fail(made.error().message);
       if (!*made) std::cerr << "simulate: reusing " << fixture << "\n";
       auto report = sweep_one(a, *options, fixture, *cells, dir);
-      if (!report.ok()) return fail(scene + " seed " + std::to_string(seed) + ": " + report.error().message);
+      if (!report.ok()) return sweep_fail(scene + " seed " + std::to_string(seed) + ": " + report.error().message);
       if (!set) std::cout << sweep_tables_markdown(*report);
       reports.push_back(std::move(*report));
       report_seeds.push_back(seed);
     }
   if (set) {
-    if (Status s = write_sweep_set(reports, report_seeds, a.out_dir); !s.ok()) return fail(s.error().message);
+    if (Status s = write_sweep_set(reports, report_seeds, a.out_dir); !s.ok()) return sweep_fail(s.error().message);
     std::cout << seeds_markdown(reports, report_seeds);
   }
   std::cerr << "sweep: outputs in " << a.out_dir << "\n";
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_sweep = register_command(
     {"sweep", "Run the paper's keyframe-density experiment on one scene (coverage, error, runtime tables)",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<SweepArgs>();

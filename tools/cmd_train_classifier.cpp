@@ -190,7 +190,7 @@ int run_train(const TrainArgs& a) {
   return 0;
 }
 
-const bool registered = register_command(
+const bool registered_train_classifier = register_command(
     {"train-classifier", "Train the inference classifier on simulated, labelled sonar data",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<TrainArgs>();

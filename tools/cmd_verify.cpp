@@ -71,7 +71,7 @@ int run_verify(VerifyArgs a) {
   return 1;
 }
 
-const bool registered = register_command(
+const bool registered_verify = register_command(
     {"verify", "Replay a fixture and compare its outputs with an expected digest.json",
      [](CLI::App& sub) -> std::function<int()> {
        auto a = std::make_shared<VerifyArgs>();

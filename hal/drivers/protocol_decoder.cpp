@@ -104,7 +104,7 @@ class BinaryDecoder : public ProtocolDecoder {
   bool finished_ = false;
 };
 
-class OculusDecoder final : public BinaryDecoder<oculus::StreamParser> {
+class OculusProtocolDecoder final : public BinaryDecoder<oculus::StreamParser> {
  public:
   std::optional<DecodedMessage> pop() override {
     auto m = parser_.pop();
@@ -126,7 +126,7 @@ class OculusDecoder final : public BinaryDecoder<oculus::StreamParser> {
 
 // ---- VN-100 ----------------------------------------------------------------------------------
 
-class Vn100Decoder final : public BinaryDecoder<vn100::StreamParser> {
+class Vn100ProtocolDecoder final : public BinaryDecoder<vn100::StreamParser> {
  public:
   std::optional<DecodedMessage> pop() override {
     auto m = parser_.pop();
@@ -332,8 +332,8 @@ const char* protocol_name(Protocol p) {
 
 std::unique_ptr<ProtocolDecoder> make_decoder(Protocol p) {
   switch (p) {
-    case Protocol::kOculus: return std::make_unique<OculusDecoder>();
-    case Protocol::kVn100: return std::make_unique<Vn100Decoder>();
+    case Protocol::kOculus: return std::make_unique<OculusProtocolDecoder>();
+    case Protocol::kVn100: return std::make_unique<Vn100ProtocolDecoder>();
     case Protocol::kA50: return std::make_unique<A50Decoder>();
     case Protocol::kPrti: return std::make_unique<PrtiDecoder>();
     case Protocol::kDepth: return std::make_unique<DepthDecoder>();

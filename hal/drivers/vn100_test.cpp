@@ -28,16 +28,16 @@ namespace {
 const Bytes kRealHeader = {0xFA, 0x14, 0x3E, 0x00, 0x3A, 0x00};
 constexpr size_t kRealPacket = 1 + 1 + 2 * 2 + 29 * 4 + 2;  // 124
 
-struct Decoded {
+struct Vn100Decoded {
   std::vector<vn100::Message> messages;
   vn100::StreamStats stats;
   size_t buffered = 0;
 };
 
 // Pushes `bytes` in chunks of the given sizes (cycled), popping after each push.
-Decoded decode_stream(const Bytes& bytes, const std::vector<size_t>& chunks = {1u << 20}) {
+Vn100Decoded decode_stream(const Bytes& bytes, const std::vector<size_t>& chunks = {1u << 20}) {
   vn100::StreamParser p;
-  Decoded d;
+  Vn100Decoded d;
   size_t at = 0, k = 0;
   while (at < bytes.size()) {
     const size_t n = std::min(chunks[k++ % chunks.size()], bytes.size() - at);
@@ -218,7 +218,7 @@ TEST_CASE("VN-100 real log: all 99 packets decode, the ASCII between them is ski
   CHECK(text_lines > 99);
 
   for (const auto& chunks : {std::vector<size_t>{1u << 20}, std::vector<size_t>{1}, std::vector<size_t>{7, 1, 123, 2, 64}}) {
-    const Decoded d = decode_stream(raw, chunks);
+    const Vn100Decoded d = decode_stream(raw, chunks);
     CHECK(d.messages.size() == 99);
     CHECK(d.stats.accepted == 99);
     CHECK(d.stats.bad_crc == 0);
@@ -228,7 +228,7 @@ TEST_CASE("VN-100 real log: all 99 packets decode, the ASCII between them is ski
     CHECK(d.buffered == 0);
   }
   // Each packet carries exactly the IMU and Attitude fields of its header, and each parses alone.
-  const Decoded d = decode_stream(raw);
+  const Vn100Decoded d = decode_stream(raw);
   for (size_t k = 0; k < d.messages.size(); ++k) {
     const auto& m = d.messages[k];
     CHECK(vn100::groups_of(m) == 0x14);
@@ -245,7 +245,7 @@ TEST_CASE("VN-100 real log: all 99 packets decode, the ASCII between them is ski
 }
 
 TEST_CASE("VN-100 real log equals the logger author's CSV to float32 precision", "[hal]") {
-  const Decoded d = decode_stream(testing::read_file(testing::testdata("vn100/F00294")));
+  const Vn100Decoded d = decode_stream(testing::read_file(testing::testdata("vn100/F00294")));
   REQUIRE(d.messages.size() == 99);
   std::ifstream csv(testing::testdata("vn100/F00294_B.csv"));
   std::string line;
@@ -283,7 +283,7 @@ TEST_CASE("VN-100 real log equals the logger author's CSV to float32 precision",
 }
 
 TEST_CASE("VN-100 real log: DCM and yaw/pitch/roll give the same reading", "[hal]") {
-  const Decoded d = decode_stream(testing::read_file(testing::testdata("vn100/F00294")));
+  const Vn100Decoded d = decode_stream(testing::read_file(testing::testdata("vn100/F00294")));
   REQUIRE(d.messages.size() == 99);
   for (const auto& m : d.messages) {
     auto from_dcm = vn100::to_imu_reading(m, Quat::Identity(), Time());  // no quaternion: DCM
@@ -424,7 +424,7 @@ TEST_CASE("VN-100 packet with an unknown group or field bit is unsupported and t
     auto one = vn100::parse_packet(gnss);
     REQUIRE_FALSE(one.ok());
     CHECK_THAT(one.error().message, Catch::Contains("group bit 3") && Catch::Contains("GNSS"));
-    const Decoded d = decode_stream(cat({gnss, good}));
+    const Vn100Decoded d = decode_stream(cat({gnss, good}));
     REQUIRE(d.messages.size() == 1);
     CHECK(d.messages[0] == good_m);
     CHECK(d.stats.unsupported == 1);
@@ -446,7 +446,7 @@ TEST_CASE("VN-100 packet with an unknown group or field bit is unsupported and t
     const auto len = vn100::packet_length(bad);
     CHECK(len.status == vn100::PacketLength::Status::kUnsupported);
     CHECK_THAT(len.reason, Catch::Contains("bit " + std::to_string(c.bit)));
-    const Decoded d = decode_stream(cat({bad, text("M,4240\r\n"), good}), {3});
+    const Vn100Decoded d = decode_stream(cat({bad, text("M,4240\r\n"), good}), {3});
     REQUIRE(d.messages.size() == 1);
     CHECK(d.messages[0] == good_m);
     CHECK(d.stats.unsupported + d.stats.bad_crc >= 1);
@@ -489,7 +489,7 @@ TEST_CASE("VN-100 truncated and CRC-corrupted packets are counted and skipped", 
   // The truncated packet's length is read from its masks; the bytes that follow complete it
   // with the wrong contents, so its CRC fails. Then the corrupted packet, then a good one.
   for (const auto& chunks : {std::vector<size_t>{1u << 20}, std::vector<size_t>{1}, std::vector<size_t>{5, 11}}) {
-    const Decoded d = decode_stream(cat({truncated, ascii, corrupt, good_b}), chunks);
+    const Vn100Decoded d = decode_stream(cat({truncated, ascii, corrupt, good_b}), chunks);
     REQUIRE(d.messages.size() == 1);
     CHECK(d.messages[0] == b);
     CHECK(d.stats.accepted == 1);
@@ -499,7 +499,7 @@ TEST_CASE("VN-100 truncated and CRC-corrupted packets are counted and skipped", 
     CHECK(d.buffered == 0);
   }
   // A truncated packet at the end of the stream stays buffered, waiting for its remainder.
-  const Decoded tail = decode_stream(cat({good_b, truncated}));
+  const Vn100Decoded tail = decode_stream(cat({good_b, truncated}));
   CHECK(tail.messages.size() == 1);
   CHECK(tail.buffered == truncated.size());
   CHECK(tail.stats.bad_crc == 0);

@@ -17,7 +17,7 @@
 namespace orthosonar::sim {
 namespace {
 
-std::string out_dir() {
+std::string mesh_io_out_dir() {
   const char* env = std::getenv("ORTHOSONAR_TEST_OUT");
   const auto dir = std::filesystem::path(env ? env : std::filesystem::temp_directory_path().string()) / "sim_mesh_io";
   std::filesystem::create_directories(dir);
@@ -45,7 +45,7 @@ std::vector<float> corners(const TriangleMesh& m) {
 
 TEST_CASE("PLY round trip keeps geometry and labels exactly", "[hal]") {
   const TriangleMesh m = sample();
-  const std::string path = out_dir() + "/sample.ply";
+  const std::string path = mesh_io_out_dir() + "/sample.ply";
   REQUIRE(write_mesh_ply(m, path).ok());
   auto r = read_mesh(path);
   REQUIRE(r.ok());
@@ -57,7 +57,7 @@ TEST_CASE("PLY round trip keeps geometry and labels exactly", "[hal]") {
 
 TEST_CASE("OBJ and STL round trips keep the triangles", "[hal]") {
   const TriangleMesh m = sample();
-  const std::string dir = out_dir();
+  const std::string dir = mesh_io_out_dir();
   REQUIRE(write_mesh_obj(m, dir + "/sample.obj").ok());
   REQUIRE(write_mesh_stl(m, dir + "/sample_bin.stl", true).ok());
   REQUIRE(write_mesh_stl(m, dir + "/sample_ascii.stl", false).ok());
@@ -71,7 +71,7 @@ TEST_CASE("OBJ and STL round trips keep the triangles", "[hal]") {
 }
 
 TEST_CASE("ascii PLY with quads and extra properties loads", "[hal]") {
-  const std::string path = out_dir() + "/quad.ply";
+  const std::string path = mesh_io_out_dir() + "/quad.ply";
   std::ofstream(path) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
                          "property float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\n"
                          "end_header\n0 0 0 1\n1 0 0 2\n1 1 0 3\n0 1 0 4\n4 0 1 2 3\n";
@@ -83,14 +83,14 @@ TEST_CASE("ascii PLY with quads and extra properties loads", "[hal]") {
 }
 
 TEST_CASE("broken mesh files are errors that name the file", "[hal]") {
-  const std::string path = out_dir() + "/broken.ply";
+  const std::string path = mesh_io_out_dir() + "/broken.ply";
   std::ofstream(path) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                          "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n";
   auto r = read_mesh(path);
   REQUIRE(!r.ok());
   CHECK(r.error().message.find("broken.ply") != std::string::npos);
-  CHECK(!read_mesh(out_dir() + "/missing.obj").ok());
-  CHECK(!read_mesh(out_dir() + "/x.dae").ok());
+  CHECK(!read_mesh(mesh_io_out_dir() + "/missing.obj").ok());
+  CHECK(!read_mesh(mesh_io_out_dir() + "/x.dae").ok());
 }
 
 
@@ -113,7 +113,7 @@ bool mentions(const Error& e, const std::string& a, const std::string& b = "") {
 
 TEST_CASE("PLY points round trip exactly, empty too, and keep the map.ply bytes", "[hal]") {
   const std::vector<Eigen::Vector3f> pts = {{1, 2, 3}, {-0.5f, 0.25f, 7}, {1e-7f, -3e5f, 0}};
-  const std::string path = out_dir() + "/points.ply";
+  const std::string path = mesh_io_out_dir() + "/points.ply";
   REQUIRE(write_ply_points(pts, path).ok());
   CHECK(read_bytes(path).starts_with("ply\nformat binary_little_endian 1.0\ncomment orthosonar map\nelement vertex 3\n"
                                      "property float x\nproperty float y\nproperty float z\nend_header\n"));
@@ -122,19 +122,19 @@ TEST_CASE("PLY points round trip exactly, empty too, and keep the map.ply bytes"
   CHECK(*back == pts);
   // A mesh file read as points: its vertices.
   const TriangleMesh m = sample();
-  REQUIRE(write_mesh_ply(m, out_dir() + "/mesh_as_points.ply").ok());
-  auto verts = read_ply_points(out_dir() + "/mesh_as_points.ply");
+  REQUIRE(write_mesh_ply(m, mesh_io_out_dir() + "/mesh_as_points.ply").ok());
+  auto verts = read_ply_points(mesh_io_out_dir() + "/mesh_as_points.ply");
   REQUIRE(verts.ok());
   CHECK(*verts == m.vertices);
-  REQUIRE(write_ply_points({}, out_dir() + "/empty.ply").ok());
-  auto empty = read_ply_points(out_dir() + "/empty.ply");
+  REQUIRE(write_ply_points({}, mesh_io_out_dir() + "/empty.ply").ok());
+  auto empty = read_ply_points(mesh_io_out_dir() + "/empty.ply");
   REQUIRE(empty.ok());
   CHECK(empty->empty());
 }
 
 TEST_CASE("PLY points carry named float properties after x y z; bad names and counts are errors", "[hal]") {
   const std::vector<Eigen::Vector3f> pts = {{1, 2, 3}, {-0.5f, 0.25f, 7}};
-  const std::string path = out_dir() + "/points_scalars.ply";
+  const std::string path = mesh_io_out_dir() + "/points_scalars.ply";
   REQUIRE(write_ply_points(pts, {{"distance_m", {0.5f, 2.0f}}, {"range_m", {10.0f, 20.5f}}}, "a cloud", path).ok());
   const std::string bytes = read_bytes(path);
   const std::string header = "ply\nformat binary_little_endian 1.0\ncomment a cloud\nelement vertex 2\n"
@@ -148,21 +148,21 @@ TEST_CASE("PLY points carry named float properties after x y z; bad names and co
   auto back = read_ply_points(path);  // the reader skips the extra properties
   REQUIRE(back.ok());
   CHECK(*back == pts);
-  auto short_values = write_ply_points(pts, {{"distance_m", {0.5f}}}, "c", out_dir() + "/bad1.ply");
+  auto short_values = write_ply_points(pts, {{"distance_m", {0.5f}}}, "c", mesh_io_out_dir() + "/bad1.ply");
   REQUIRE_FALSE(short_values.ok());
   CHECK(mentions(short_values.error(), "bad1.ply", "'distance_m' has 1 values for 2 points"));
-  auto bad_name = write_ply_points(pts, {{"dist ance", {0.5f, 1.0f}}}, "c", out_dir() + "/bad2.ply");
+  auto bad_name = write_ply_points(pts, {{"dist ance", {0.5f, 1.0f}}}, "c", mesh_io_out_dir() + "/bad2.ply");
   REQUIRE_FALSE(bad_name.ok());
   CHECK(mentions(bad_name.error(), "bad2.ply", "bad vertex property name 'dist ance'"));
-  auto clash = write_ply_points(pts, {{"x", {0.5f, 1.0f}}}, "c", out_dir() + "/bad3.ply");
+  auto clash = write_ply_points(pts, {{"x", {0.5f, 1.0f}}}, "c", mesh_io_out_dir() + "/bad3.ply");
   CHECK_FALSE(clash.ok());
-  auto two_lines = write_ply_points(pts, {}, "a\nb", out_dir() + "/bad4.ply");
+  auto two_lines = write_ply_points(pts, {}, "a\nb", mesh_io_out_dir() + "/bad4.ply");
   CHECK_FALSE(two_lines.ok());
 }
 
 TEST_CASE("PLY bytes in memory are the file's bytes and decode the same way", "[hal]") {
   const TriangleMesh m = sample();
-  const std::string path = out_dir() + "/memory.ply";
+  const std::string path = mesh_io_out_dir() + "/memory.ply";
   REQUIRE(write_mesh_ply(m, path).ok());
   const std::string bytes = encode_mesh_ply(m);
   CHECK(bytes == read_bytes(path));
@@ -189,8 +189,8 @@ TEST_CASE("PLY in big-endian binary, with doubles, CRLF and a class property loa
   be.push_back(3);
   for (uint32_t i : {0u, 1u, 2u}) put_be(&i, 4);
   be.push_back(static_cast<char>(SemanticClass::kPiling));
-  write_bytes(out_dir() + "/be.ply", be);
-  auto r = read_mesh(out_dir() + "/be.ply");
+  write_bytes(mesh_io_out_dir() + "/be.ply", be);
+  auto r = read_mesh(mesh_io_out_dir() + "/be.ply");
   REQUIRE(r.ok());
   CHECK(r->vertices[2] == Eigen::Vector3f(0.5f, 2.0f, -1.0f));
   CHECK(r->triangles.size() == 1u);
@@ -198,7 +198,7 @@ TEST_CASE("PLY in big-endian binary, with doubles, CRLF and a class property loa
 }
 
 TEST_CASE("a PLY header claiming 2^64 elements is a clear error, not a hang or an allocation", "[hal]") {
-  const std::string dir = out_dir();
+  const std::string dir = mesh_io_out_dir();
   for (const char* format : {"binary_little_endian", "binary_big_endian", "ascii"}) {
     INFO(format);
     write_bytes(dir + "/huge.ply", std::string("ply\nformat ") + format +
@@ -240,7 +240,7 @@ TEST_CASE("a PLY header claiming 2^64 elements is a clear error, not a hang or a
 }
 
 TEST_CASE("PLY headers without end_header, with junk or an unknown format are errors", "[hal]") {
-  const std::string dir = out_dir();
+  const std::string dir = mesh_io_out_dir();
   write_bytes(dir + "/junk.ply", "ply\n" + std::string(3u << 20, 'a'));  // 3 MiB with no newline
   auto j = read_mesh(dir + "/junk.ply");
   REQUIRE_FALSE(j.ok());
@@ -260,7 +260,7 @@ TEST_CASE("PLY headers without end_header, with junk or an unknown format are er
 TEST_CASE("every truncation of a PLY or STL file is an error naming the file", "[hal]") {
   TriangleMesh m;
   MeshBuilder(m).box({0, 0, 0}, {1, 2, 3}, 0, {7, SemanticClass::kDock});  // 12 triangles
-  const std::string dir = out_dir();
+  const std::string dir = mesh_io_out_dir();
   REQUIRE(write_mesh_ply(m, dir + "/full.ply").ok());
   REQUIRE(write_mesh_stl(m, dir + "/full.stl", true).ok());
   REQUIRE(write_mesh_stl(m, dir + "/full_ascii.stl", false).ok());
@@ -288,7 +288,7 @@ TEST_CASE("every truncation of a PLY or STL file is an error naming the file", "
 }
 
 TEST_CASE("a binary STL claiming more triangles than its bytes is a clear error", "[hal]") {
-  const std::string dir = out_dir();
+  const std::string dir = mesh_io_out_dir();
   std::string stl(80, ' ');
   const uint32_t n = 0xffffffffu;
   stl.append(reinterpret_cast<const char*>(&n), 4);
@@ -312,7 +312,7 @@ TEST_CASE("a binary STL claiming more triangles than its bytes is a clear error"
 }
 
 TEST_CASE("OBJ face indices out of range, 2^64 or 0 are errors naming the line", "[hal]") {
-  const std::string dir = out_dir();
+  const std::string dir = mesh_io_out_dir();
   const std::string verts = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   for (const char* face : {"f 1 2 18446744073709551616", "f 1 2 18446744073709551615", "f 1 2 4", "f 0 1 2",
                            "f 1 2 -4", "f 1 2 x", "f 1 2"}) {
@@ -376,7 +376,7 @@ namespace orthosonar::sim {
 // Issue 35: NaN, infinite or beyond-float vertices loaded as they were and reached the
 // renderer's BVH and int64(floor(NaN)) voxel keys; each format now names the file and where.
 TEST_CASE("mesh vertices that are not finite floats are errors naming the file and where", "[hal]") {
-  const std::string dir = out_dir();
+  const std::string dir = mesh_io_out_dir();
   const std::string ply_head =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
       "element face 1\nproperty list uchar int vertex_indices\nend_header\n";

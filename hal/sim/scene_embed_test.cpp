@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path out_dir(const std::string& name) {
+fs::path embed_out_dir(const std::string& name) {
   const char* env = std::getenv("ORTHOSONAR_TEST_OUT");
   const auto dir = fs::path(env ? env : fs::temp_directory_path().string()) / "sim_scene_embed" / name;
   fs::remove_all(dir);
@@ -84,7 +84,7 @@ TEST_CASE("embedded scene: a built-in scene round-trips bit-identically", "[hal]
 }
 
 TEST_CASE("embedded scene: a user scene needs no file once embedded", "[hal][embed]") {
-  const auto dir = out_dir("site");
+  const auto dir = embed_out_dir("site");
   write_site(dir);
   auto scene = load_scene_file((dir / "site.yaml").string());
   REQUIRE(scene.ok());
@@ -97,7 +97,7 @@ TEST_CASE("embedded scene: a user scene needs no file once embedded", "[hal][emb
   CHECK(yaml.find("origin: \"file:site.yaml\"") != std::string::npos);
 
   // The same scene from another folder embeds the same bytes.
-  const auto other = out_dir("elsewhere");
+  const auto other = embed_out_dir("elsewhere");
   write_site(other);
   auto moved = load_scene_file((other / "site.yaml").string());
   REQUIRE(moved.ok());
@@ -114,7 +114,7 @@ TEST_CASE("embedded scene: a user scene needs no file once embedded", "[hal][emb
   CHECK(back->origin == "file:site.yaml");
 
   // Saved beside its mesh, the embedded YAML is a scene file.
-  const auto extracted = out_dir("extracted");
+  const auto extracted = embed_out_dir("extracted");
   for (const auto& f : *files)
     std::ofstream(extracted / f.name, std::ios::binary)
         .write(reinterpret_cast<const char*>(f.data.data()), static_cast<std::streamsize>(f.data.size()));

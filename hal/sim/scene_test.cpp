@@ -10,7 +10,7 @@
 namespace orthosonar::sim {
 namespace {
 
-std::filesystem::path out_dir() {
+std::filesystem::path scene_out_dir() {
   const char* env = std::getenv("ORTHOSONAR_TEST_OUT");
   const auto dir = std::filesystem::path(env ? env : std::filesystem::temp_directory_path().string()) / "sim_scene";
   std::filesystem::create_directories(dir);
@@ -67,7 +67,7 @@ TEST_CASE("built-in scenes are valid deterministic and realistic", "[hal]") {
 TEST_CASE("a scene file equal to a built-in loads the same scene", "[hal]") {
   const auto harbor = builtin_scene("marina1", 3);
   REQUIRE(harbor.ok());
-  const auto dir = out_dir();
+  const auto dir = scene_out_dir();
   REQUIRE(write_mesh_ply(harbor->mesh, (dir / "marina1.ply").string()).ok());
   {
     std::ofstream route(dir / "route.csv");
@@ -95,7 +95,7 @@ TEST_CASE("a scene file equal to a built-in loads the same scene", "[hal]") {
 }
 
 TEST_CASE("scene files place meshes with poses and classes and report errors", "[hal]") {
-  const auto dir = out_dir();
+  const auto dir = scene_out_dir();
   TriangleMesh cube;
   cube.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   cube.triangles = {{0, 1, 2}};
@@ -125,7 +125,7 @@ TEST_CASE("scene files place meshes with poses and classes and report errors", "
 // Found by fuzz_scene_file (2026-12-01): a seafloor extent of 4.4e63 m reached a float-to-int
 // conversion out of range (undefined behaviour) and would have sized the heightfield from it.
 TEST_CASE("scene files with huge, non-finite or over-fine seafloors are errors naming the key", "[hal]") {
-  const auto dir = out_dir();
+  const auto dir = scene_out_dir();
   auto load_text = [&](const std::string& name, const std::string& text) {
     std::ofstream(dir / name) << text;
     return load_scene_file((dir / name).string());

@@ -3,11 +3,10 @@
 #include <numbers>
 
 #include "hal/sim/scenes_builtin.hpp"
+#include "core/geometry.hpp"
 
 namespace orthosonar::sim::detail {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A three-masted sailing ship (about 40 m, beam 9 m, draft 4 m) with a full keel and rudder.
 void sailing_ship(SceneAssembly& a, const SE3& T) {
@@ -48,7 +47,7 @@ void cruiser(SceneAssembly& a, const SE3& T) {
   hull(a.b, s, T, l);
   const size_t first = a.scene.mesh.vertices.size();
   for (double side : {-1.0, 1.0}) {
-    a.b.box({0.0, side * 7.2, -5.4}, {40.0, 0.25, 0.9}, side * 35.0 * kDeg, l);  // bilge keels (approx.)
+    a.b.box({0.0, side * 7.2, -5.4}, {40.0, 0.25, 0.9}, side * 35.0 * kRadPerDeg, l);  // bilge keels (approx.)
     a.b.cylinder({-38.0, side * 3.2, -4.8}, {-50.5, side * 3.2, -4.6}, 0.35, 10, l);  // shaft
     for (int blade = 0; blade < 3; ++blade) {
       const double ang = blade * 2.0 * std::numbers::pi / 3.0;
@@ -134,8 +133,8 @@ Scene build_harbor(uint64_t seed) {
   a.b.corrugated_wall({-120, 0.4}, {150, 0.4}, -11.0, 2.0, 1.6, 0.4, a.next(SemanticClass::kSeawall));
   a.b.box({15, 1.2, 1.7}, {270, 1.6, 0.6}, 0.0, a.next(SemanticClass::kSeawall));
   // Moored alongside the quay: the sailing ship (bow east) and the cruiser (bow west).
-  sailing_ship(a, se3_from_xyz_rpy(-42 + rng.uniform(-0.5, 0.5), -9.5, 0.0, 1.0 * kDeg, 0.0, rng.uniform(-0.02, 0.02)));
-  cruiser(a, se3_from_xyz_rpy(60 + rng.uniform(-0.5, 0.5), -15.5, 0.0, -0.5 * kDeg, 0.0, std::numbers::pi + rng.uniform(-0.01, 0.01)));
+  sailing_ship(a, se3_from_xyz_rpy(-42 + rng.uniform(-0.5, 0.5), -9.5, 0.0, 1.0 * kRadPerDeg, 0.0, rng.uniform(-0.02, 0.02)));
+  cruiser(a, se3_from_xyz_rpy(60 + rng.uniform(-0.5, 0.5), -15.5, 0.0, -0.5 * kRadPerDeg, 0.0, std::numbers::pi + rng.uniform(-0.01, 0.01)));
   // A floating pier off the quay at x = -5, to y = -30, on pilings every 6 m.
   a.dock({-5, -15}, {3.0, 29.5}, 0.0);
   for (double y = -4; y >= -30; y -= 6.0) {
@@ -170,9 +169,9 @@ Scene build_aircraft(uint64_t seed) {
   a.scene.route = {{-34, 0}, {-18, 0}, {0, -34}, {0, -18}, {34, 0}, {18, 0}, {0, 34}, {0, 19}, {-34, 0}};
   a.seafloor(-75, 75, -75, 75, 0.25);
   Rng rng(derive_seed(seed, 0x4149524352ull));
-  const double yaw = 25.0 * kDeg + rng.uniform(-0.05, 0.05);
+  const double yaw = 25.0 * kRadPerDeg + rng.uniform(-0.05, 0.05);
   const double z0 = a.floor_z(0.0, 0.0) - 0.35;  // settled into the sediment
-  bomber(a, se3_from_xyz_rpy(0.0, 0.0, z0, 3.0 * kDeg, -1.5 * kDeg, yaw));
+  bomber(a, se3_from_xyz_rpy(0.0, 0.0, z0, 3.0 * kRadPerDeg, -1.5 * kRadPerDeg, yaw));
   a.debris(20, -70, 70, -70, 70, 3.0, 0x4445425249ull);
   return std::move(a.scene);
 }

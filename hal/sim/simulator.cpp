@@ -1,4 +1,5 @@
 #include "hal/sim/simulator.hpp"
+#include "core/geometry.hpp"
 
 #include <array>
 #include <cmath>
@@ -13,7 +14,6 @@
 namespace orthosonar::sim {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr uint64_t kImuStream = 0x494d55ull, kBiasStream = 0x42494153ull, kDvlStream = 0x44564cull,
                    kDepthStream = 0x44455054ull, kGyroBiasStream = 0x47594230ull;
 
@@ -85,10 +85,10 @@ struct Simulator::Impl {
         const auto& n = cfg.nav;
         ImuReading r;
         r.stamp = t;
-        r.q_W_V = quat_rpy(s.roll_rad + rng.normal(0, n.imu_roll_pitch_sigma_deg * kDeg),
-                           s.pitch_rad + rng.normal(0, n.imu_roll_pitch_sigma_deg * kDeg),
-                           wrap_angle(s.yaw_rad + yaw_bias_rad[i] + rng.normal(0, n.imu_yaw_sigma_deg * kDeg)));
-        const double g = n.imu_gyro_sigma_dps * kDeg;
+        r.q_W_V = quat_rpy(s.roll_rad + rng.normal(0, n.imu_roll_pitch_sigma_deg * kRadPerDeg),
+                           s.pitch_rad + rng.normal(0, n.imu_roll_pitch_sigma_deg * kRadPerDeg),
+                           wrap_angle(s.yaw_rad + yaw_bias_rad[i] + rng.normal(0, n.imu_yaw_sigma_deg * kRadPerDeg)));
+        const double g = n.imu_gyro_sigma_dps * kRadPerDeg;
         r.angular_velocity_V =
             s.omega_V_rps + gyro_bias_rps + Vec3(rng.normal(0, g), rng.normal(0, g), rng.normal(0, g));
         const Eigen::Matrix3d R = s.T_W_V().rotation();
@@ -165,11 +165,11 @@ Simulator::Simulator(Scene scene, SimConfig config) : impl_(std::make_unique<Imp
   for (uint64_t i = 0; i < imu.count; ++i) {
     m.yaw_bias_rad.push_back(b);
     Rng rng(derive_seed(config.seed, kBiasStream, i));
-    b += n.imu_yaw_bias_rate_dps * kDeg * dt + n.imu_yaw_bias_walk_deg_per_sqrt_s * kDeg * std::sqrt(dt) * rng.normal();
+    b += n.imu_yaw_bias_rate_dps * kRadPerDeg * dt + n.imu_yaw_bias_walk_deg_per_sqrt_s * kRadPerDeg * std::sqrt(dt) * rng.normal();
   }
   {
     Rng rng(derive_seed(config.seed, kGyroBiasStream, 0));
-    const double sb = n.imu_gyro_bias_dps * kDeg;
+    const double sb = n.imu_gyro_bias_dps * kRadPerDeg;
     m.gyro_bias_rps = Vec3(rng.normal(0, sb), rng.normal(0, sb), rng.normal(0, sb));
   }
   if (config.render_threads > 1) {

@@ -1,4 +1,5 @@
 #include "hal/sim/sonar_renderer.hpp"
+#include "core/geometry.hpp"
 
 #include <embree3/rtcore.h>
 
@@ -18,7 +19,6 @@
 namespace orthosonar::sim {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr int kTable = 4096;     // speckle / noise inverse-CDF tables (12-bit index)
 constexpr int kGammaLut = 16384;  // linear [0, 1] -> 8-bit
 constexpr int kCosTable = 1024;
@@ -161,7 +161,7 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
     const double u = -1.0 + 2.0 * (j + 0.5) / nb;
     const double deg = half * ((1.0 - cfg.bearing_cubic) * u + cfg.bearing_cubic * u * u * u);
     const auto centi = static_cast<int16_t>(std::lround(deg * 100.0));
-    h.bearings.push_back(centi * 0.01 * kDeg);
+    h.bearings.push_back(centi * 0.01 * kRadPerDeg);
   }
   for (int j = 0; j + 1 < nb; ++j) {
     h.tan_mid.push_back(static_cast<float>(std::tan(0.5 * (h.bearings[static_cast<size_t>(j)] + h.bearings[static_cast<size_t>(j + 1)]))));
@@ -173,7 +173,7 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
   // geometry) and differs between beams, so no stripes line up across the image.
   const int S = cfg.beam_samples, E = cfg.elevation_samples;
   h.rays_per_beam = ((S * E + 15) / 16) * 16;
-  const double ap = spec.aperture_deg * kDeg, sigma = cfg.aperture_sigma_deg * kDeg * (spec.aperture_deg / 20.0);
+  const double ap = spec.aperture_deg * kRadPerDeg, sigma = cfg.aperture_sigma_deg * kRadPerDeg * (spec.aperture_deg / 20.0);
   for (int j = 0; j < nb; ++j) {
     const double lo = j > 0 ? h.bearings[static_cast<size_t>(j - 1)] : 2 * h.bearings[0] - h.bearings[1];
     const double hi = j + 1 < nb ? h.bearings[static_cast<size_t>(j + 1)]
@@ -224,7 +224,7 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
   // keeps its calibrated level; side-lobe taps kept down to side_lobe_floor_db.
   h.k_side.assign(static_cast<size_t>(nb), {});
   if (cfg.beam_pattern && spec.beam_width_deg > 0.0) {
-    const double u_scale = 0.6391 / (spec.beam_width_deg * kDeg);
+    const double u_scale = 0.6391 / (spec.beam_width_deg * kRadPerDeg);
     const double natural_sll = 0.0022;  // sinc^4's first side lobe, -26.6 dB
     double first_peak = 0.0;
     for (double u = 1.0; u < 2.0; u += 1e-4) first_peak = std::max(first_peak, beam_pattern(u, 1.0));
@@ -330,7 +330,7 @@ SonarRenderer::SonarRenderer(const TriangleMesh& mesh, const SonarModelConfig& c
   // ray weights, per head aperture scaled in render (the LUT is for a 20 deg aperture's sigma).
   for (int i = 0; i < kApLut; ++i) {
     const double sphi = -1.0 + 2.0 * (i + 0.5) / kApLut;
-    const double phi = std::asin(sphi), sigma = cfg.aperture_sigma_deg * kDeg;
+    const double phi = std::asin(sphi), sigma = cfg.aperture_sigma_deg * kRadPerDeg;
     m.gap_lut.push_back(static_cast<float>(std::exp(-0.5 * (phi / sigma) * (phi / sigma))));
   }
   for (int i = 0; i < kTexLut; ++i) {
@@ -455,7 +455,7 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
   const bool lambert = cfg.seabed_lambert;
   const float mu = static_cast<float>(cfg.seabed_mu);
   const double tex_scale = 1.0 / cfg.seabed_texture_scale_m, rel_scale = 1.0 / cfg.seabed_relief_scale_m;
-  const float rel_slope = static_cast<float>(std::tan(cfg.seabed_relief_deg * kDeg));
+  const float rel_slope = static_cast<float>(std::tan(cfg.seabed_relief_deg * kRadPerDeg));
   LatticeCell cell_rx, cell_ry, cell_tex;
   // Mirrors for one-bounce multipath: the surface z = 0 and the seabed plane.
   struct Mirror {

@@ -1,4 +1,5 @@
 #include "hal/sim/trajectory.hpp"
+#include "core/geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,13 +8,11 @@
 namespace orthosonar::sim {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 double roll_at(const VehicleConfig& c, double t) {
-  return c.roll_amplitude_deg * kDeg * std::sin(2.0 * std::numbers::pi * t / c.roll_period_s);
+  return c.roll_amplitude_deg * kRadPerDeg * std::sin(2.0 * std::numbers::pi * t / c.roll_period_s);
 }
 double pitch_at(const VehicleConfig& c, double t) {
-  return c.pitch_amplitude_deg * kDeg * std::sin(2.0 * std::numbers::pi * t / c.pitch_period_s + 1.0);
+  return c.pitch_amplitude_deg * kRadPerDeg * std::sin(2.0 * std::numbers::pi * t / c.pitch_period_s + 1.0);
 }
 
 }  // namespace
@@ -27,7 +26,7 @@ Trajectory::Trajectory(const std::vector<Waypoint>& route, double depth_m, const
   size_t target = route.size() > 1 ? 1 : 0;
   double yaw = route.size() > 1 ? std::atan2(route[1].y_m - p.y(), route[1].x_m - p.x()) : 0.0;
   const Vec2 current(c.current_x_mps, c.current_y_mps);
-  const double max_rate = c.max_yaw_rate_dps * kDeg;
+  const double max_rate = c.max_yaw_rate_dps * kRadPerDeg;
   for (size_t k = 0; k < steps; ++k) {
     const double t = static_cast<double>(k) * dt;
     double speed = 0.0, yaw_rate = 0.0;

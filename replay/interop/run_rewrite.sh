@@ -52,13 +52,16 @@ for mode in default nosummary nochunks lz4 uncompressed zstd; do
 done
 
 # A recorder that died: the no-summary rewrite (Schema and Channel records inside its
-# chunks) and the lz4 one, cut at two thirds. Replay succeeds on what is left and warns.
+# chunks) and the lz4 one, cut at two thirds. Replay exits 1 and warns; with
+# --allow-incomplete it maps what is left, still warning.
 for mode in nosummary lz4; do
   size=$(wc -c <"$mode.mcap")
   head -c $((size * 2 / 3)) "$mode.mcap" >"died_$mode.mcap"
-  digest=$(timeout 120 "$cli" replay "died_$mode.mcap" -q -o "out_died_$mode" 2>"replay_died_$mode.err") \
-    || fail "replay of the cut $mode rewrite: $(cat "replay_died_$mode.err")"
-  grep -q "warning: .*died_$mode.mcap is incomplete: .*byte offset" "replay_died_$mode.err" \
+  timeout 120 "$cli" replay "died_$mode.mcap" -q -o "out_died_strict_$mode" >/dev/null 2>&1; rc=$?
+  [ $rc -eq 1 ] || fail "replay of the cut $mode rewrite without --allow-incomplete: exit $rc, expected 1"
+  digest=$(timeout 120 "$cli" replay "died_$mode.mcap" -q --allow-incomplete -o "out_died_$mode" 2>"replay_died_$mode.err") \
+    || fail "replay --allow-incomplete of the cut $mode rewrite: $(cat "replay_died_$mode.err")"
+  grep -q "warning: .*died_$mode.mcap: input cut at byte offset" "replay_died_$mode.err" \
     || fail "cut $mode rewrite: no truncation warning: $(cat "replay_died_$mode.err")"
   "$cli" inspect "died_$mode.mcap" >"inspect_died_$mode.txt" 2>&1; rc=$?
   [ $rc -eq 1 ] || fail "inspect of the cut $mode rewrite: exit $rc, expected 1"

@@ -205,7 +205,7 @@ std::string import_number_text(double v) {
 }
 
 // Field access with errors naming the field.
-struct Fields {
+struct MessageFields {
   const Value& root;
   const std::string& at;
   Result<const Value*> get(std::string_view path) const {
@@ -327,7 +327,7 @@ void copy_image(SonarPing& p, const uint8_t* data, size_t step, uint32_t height,
     for (size_t i = 0; i + 1 < p.image.size(); i += 2) std::swap(p.image[i], p.image[i + 1]);
 }
 
-Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool compressed) {
+Result<SonarPing> convert_oculus(const MessageFields& f, const TopicRule& rule, bool compressed) {
   SonarPing p;
   p.mount = rule.role == Role::kVerticalSonar ? SonarMount::kVertical : SonarMount::kHorizontal;
   p.device_id = rule.device_id;
@@ -383,7 +383,7 @@ Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool co
   }
   auto img = f.get("ping");
   if (!img) return img.error();
-  const Fields fi{**img, f.at};
+  const MessageFields fi{**img, f.at};
   if (compressed) {
     auto data = fi.get("data");
     if (!data) return data.error();
@@ -442,7 +442,7 @@ Result<SonarPing> convert_oculus(const Fields& f, const TopicRule& rule, bool co
   return p;
 }
 
-Result<SonarPing> convert_projected(const Fields& f, const TopicRule& rule) {
+Result<SonarPing> convert_projected(const MessageFields& f, const TopicRule& rule) {
   SonarPing p;
   p.mount = rule.role == Role::kVerticalSonar ? SonarMount::kVertical : SonarMount::kHorizontal;
   p.device_id = rule.device_id;
@@ -540,7 +540,7 @@ Result<SonarPing> convert_projected(const Fields& f, const TopicRule& rule) {
 }
 
 Result<Payload> convert(Kind kind, const Value& msg, const TopicRule& rule, int64_t stamp_ns, const std::string& at) {
-  const Fields f{msg, at};
+  const MessageFields f{msg, at};
   const Time t = Time::from_ns(stamp_ns);
   const bool ned = rule.convention == Convention::kNedFrd;
   switch (kind) {

@@ -23,14 +23,14 @@ using namespace orthosonar;
 
 namespace {
 
-fs::path test_dir() {
+fs::path run_test_dir() {
   return orthosonar::replay::testing::case_dir("run_api", Catch::getResultCapture().getCurrentTestName());
 }
 
 // A short reduced-resolution harbor mission, simulated once per test process.
 const std::string& fixture() {
   static const std::string path = [] {
-    const fs::path p = test_dir() / "harbor_12s.mcap";
+    const fs::path p = run_test_dir() / "harbor_12s.mcap";
     run::MissionSpec spec;
     spec.scene = "harbor";
     spec.duration_s = 12.0;

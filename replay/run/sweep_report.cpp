@@ -81,7 +81,7 @@ struct AteStats {
   }
 };
 
-nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+nlohmann::json sweep_opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
 std::string opt_fmt(const char* f, const std::optional<double>& v) { return v ? fmt(f, *v) : std::string("n/a"); }
 
 // One system's points pooled over the report's cells (Table II and the seed tables).
@@ -304,15 +304,15 @@ std::string seeds_markdown(const SeedSummary& sum, const std::vector<uint64_t>& 
 }
 
 nlohmann::json pooled_json(const Pooled& p) {
-  return {{"mae_m", opt_json(p.mae())},
-          {"rmse_m", opt_json(p.rmse())},
+  return {{"mae_m", sweep_opt_json(p.mae())},
+          {"rmse_m", sweep_opt_json(p.rmse())},
           {"points", p.slam.n},
-          {"true_pose_mae_m", opt_json(p.truth.mae())},
-          {"true_pose_rmse_m", opt_json(p.truth.rmse())}};
+          {"true_pose_mae_m", sweep_opt_json(p.truth.mae())},
+          {"true_pose_rmse_m", sweep_opt_json(p.truth.rmse())}};
 }
 
 nlohmann::json ate_json(const AteStats& a) {
-  return {{"median_slam_dr_ratio", opt_json(a.median())}, {"slam_le_dr", a.slam_le_dr}, {"cells", a.cells}};
+  return {{"median_slam_dr_ratio", sweep_opt_json(a.median())}, {"slam_le_dr", a.slam_le_dr}, {"cells", a.cells}};
 }
 
 }  // namespace
