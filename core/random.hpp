@@ -4,7 +4,6 @@
 // from (seed, stream, index) so any single frame can be regenerated alone.
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 
 namespace orthosonar {
 
@@ -58,10 +57,13 @@ class Rng {
     double u1 = uniform();
     while (u1 <= 0.0) u1 = uniform();
     const double u2 = uniform();
+    // 2π as std::numbers::pi would give it (the same double), spelt out so that this header
+    // also compiles as C++17 (the libtorch module under clang, core/inference/CMakeLists.txt).
+    constexpr double kTwoPi = 2.0 * 3.141592653589793238462643383279502884;
     const double r = std::sqrt(-2.0 * std::log(u1));
-    spare_ = r * std::sin(2.0 * std::numbers::pi * u2);
+    spare_ = r * std::sin(kTwoPi * u2);
     has_spare_ = true;
-    return r * std::cos(2.0 * std::numbers::pi * u2);
+    return r * std::cos(kTwoPi * u2);
   }
   double normal(double mean, double sigma) { return mean + sigma * normal(); }
   // Exponential with the given mean.
