@@ -1,6 +1,11 @@
 #include "core/random.hpp"
 
 #include <catch2/catch.hpp>
+#include <numbers>
+
+// random.hpp spells 2π out (it also compiles as C++17); it must be the double the C++20
+// constant gives, or every simulated noise draw would change.
+static_assert(2.0 * 3.141592653589793238462643383279502884 == 2.0 * std::numbers::pi);
 
 using orthosonar::Rng;
 
