@@ -34,7 +34,12 @@ using Fields = std::vector<std::pair<std::string, Value>>;
 constexpr int64_t kMaxRosNs = (int64_t{1} << 31) * 1'000'000'000;  // int32 seconds (ROS 2) and uint32 (ROS 1)
 constexpr double kAtmospherePa = 101325.0, kSeawaterDensity = 1025.0, kGravity = 9.80665;
 
-Value num(double d) { return Value::number(d, static_cast<int64_t>(d), false); }
+// The integer view of a float field is only defined inside int64's range; NaN (an invalid
+// DVL velocity, say) and infinities get 0 (clang's UBSan: float-cast-overflow).
+Value num(double d) {
+  const bool fits = std::isfinite(d) && d > -9.2e18 && d < 9.2e18;
+  return Value::number(d, fits ? static_cast<int64_t>(d) : 0, false);
+}
 Value integer(int64_t i) { return Value::number(static_cast<double>(i), i, true); }
 Value str(std::string s) { return Value::string(std::move(s)); }
 Value msg(Fields f) { return Value::message(std::move(f)); }
