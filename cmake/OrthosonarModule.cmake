@@ -158,7 +158,7 @@ endfunction()
 function(orthosonar_all_libraries out_var)
   set(libs "")
   foreach(t orthosonar_core orthosonar_perception orthosonar_slam orthosonar_mapping orthosonar_inference
-      orthosonar_hal orthosonar_sim orthosonar_drivers orthosonar_replay orthosonar_outputs orthosonar_reports
+      orthosonar_hal orthosonar_codec orthosonar_sim orthosonar_drivers orthosonar_replay orthosonar_outputs orthosonar_reports
       orthosonar_run orthosonar_ros)
     if(TARGET ${t})
       list(APPEND libs ${t})

@@ -14,8 +14,8 @@
 #include <string>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "hal/codec/image_codec.hpp"
 #include "golden/cli_runner.hpp"
 #include "reports/image_compare.hpp"
 #include "reports/render.hpp"
@@ -113,12 +113,13 @@ TEST_CASE("golden check passes an unchanged image and fails a changed one with a
 
   // Replace the stored fusion view by its upside-down copy: same pixels, moved structure.
   const fs::path stored = dir / "marina1" / "fusion_top.png";
-  cv::Mat image = cv::imread(stored.string(), cv::IMREAD_COLOR);
-  REQUIRE_FALSE(image.empty());
+  auto read = orthosonar::codec::read_image(stored.string(), orthosonar::codec::DecodeAs::kBgr);
+  REQUIRE(read.ok());
+  const cv::Mat image = *read;
   cv::Mat flipped;
   cv::flip(image, flipped, 0);
   INFO("flipped score " << orthosonar::reports::image_difference(image, flipped));
-  REQUIRE(cv::imwrite(stored.string(), flipped));
+  REQUIRE(orthosonar::codec::write_png(stored.string(), flipped).ok());
 
   const Run changed = cli(golden_args("--check", scenario, out));
   INFO(changed.out);

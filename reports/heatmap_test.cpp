@@ -1,9 +1,9 @@
+#include "hal/codec/image_codec.hpp"
 #include "reports/heatmap.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
-#include <opencv2/imgcodecs.hpp>
 
 #include "reports/colormap.hpp"
 #include "reports/draw_util.hpp"
@@ -58,7 +58,7 @@ TEST_CASE("heat map has the paper's layout: panels per system, rotations by dist
     const cv::Scalar want = to_bgr(colour_at(ColourMap::kCoverage, (c.value - hm->min_value) / (hm->max_value - hm->min_value)));
     for (int k = 0; k < 3; ++k) CHECK(std::abs(px[k] - want[k]) <= 1.0);
   }
-  cv::imwrite((testing::test_dir("heatmap") / "heatmap.png").string(), hm->image);
+  CHECK(codec::write_png((testing::test_dir("heatmap") / "heatmap.png").string(), hm->image).ok());
 }
 
 TEST_CASE("missing heat map cells are grey and duplicates are an error", "[report]") {
@@ -102,5 +102,5 @@ TEST_CASE("trajectory plot draws every series and refuses empty input", "[report
     }
   CHECK(orange > 200);
   CHECK_FALSE(draw_trajectory_plot({PlotSeries{"one", {{0, 0}}, {}}}).ok());
-  cv::imwrite((testing::test_dir("trajectory_plot") / "trajectories.png").string(), *img);
+  CHECK(codec::write_png((testing::test_dir("trajectory_plot") / "trajectories.png").string(), *img).ok());
 }

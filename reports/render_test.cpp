@@ -1,7 +1,7 @@
+#include "hal/codec/image_codec.hpp"
 #include "reports/render.hpp"
 
 #include <catch2/catch.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "reports/image_compare.hpp"
 #include "reports/map_views.hpp"
@@ -33,7 +33,7 @@ TEST_CASE("map renders are 1280x960 and not blank for both views", "[report]") {
     CHECK(img->cols == 1280);
     CHECK(img->rows == 960);
     CHECK(pixel_variance(*img) > 50.0);
-    cv::imwrite((dir / (std::string("map_") + view_name(v) + ".png")).string(), *img);
+    CHECK(codec::write_png((dir / (std::string("map_") + view_name(v) + ".png")).string(), *img).ok());
     // The map changes the picture: the same view without points differs clearly.
     auto empty = render_map_view(*run, {}, v, b, std::string("synthetic ") + view_name(v));
     REQUIRE(empty.ok());

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include <opencv2/imgcodecs.hpp>
 
+#include "hal/codec/image_codec.hpp"
 #include "reports/heatmap.hpp"
 #include "reports/html.hpp"
 #include "reports/image_compare.hpp"
@@ -27,12 +27,7 @@ std::string fixed(double v, int decimals) {
 }
 
 Status save_png(const fs::path& path, const cv::Mat& image) {
-  try {
-    if (!cv::imwrite(path.string(), image)) return Error{"cannot write '" + path.string() + "'"};
-  } catch (const cv::Exception& e) {
-    return Error{"cannot write '" + path.string() + "': " + e.what()};
-  }
-  return Status::Ok();
+  return codec::write_png(path.string(), image);
 }
 
 struct Builder {

@@ -10,10 +10,10 @@
 #include <sstream>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "hal/sim/simulator.hpp"
+#include "hal/codec/image_codec.hpp"
 #include "hal/sim/sonar_fan.hpp"
 #include "replay/fixture.hpp"
 #include "tools/cli.hpp"
@@ -126,7 +126,7 @@ int run_simulate(const SimulateArgs& a) {
       cv::Mat all;
       cv::vconcat(rows, all);
       const auto path = (std::filesystem::path(a.snapshot_dir) / (scene->name + "_profiles.jpg")).string();
-      if (!cv::imwrite(path, all, {cv::IMWRITE_JPEG_QUALITY, 85})) return simulate_fail("cannot write JPEG '" + path + "'");
+      if (Status s = codec::write_jpeg(path, all, 85); !s) return simulate_fail(s.error().message);
       if (!a.quiet) std::printf("wrote %s\n", path.c_str());
       if (!a.real_ping.empty()) {
         auto f = read_oculus_ping_file(a.real_ping, "--real-ping");

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "hal/codec/image_codec.hpp"
 #include "reports/camera.hpp"
 #include "reports/map_views.hpp"
 #include "reports/render.hpp"
@@ -48,9 +48,7 @@ Result<std::map<std::string, cv::Mat>> render_golden_views(const std::string& ru
 
 Result<cv::Mat> read_png(const std::string& path) {
   if (!std::filesystem::exists(path)) return Error{path + ": not found"};
-  cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
-  if (image.empty()) return Error{path + ": not a readable image"};
-  return image;
+  return codec::read_image(path, codec::DecodeAs::kBgr);
 }
 
 Status write_png(const std::string& path, const cv::Mat& image) {
@@ -58,14 +56,7 @@ Status write_png(const std::string& path, const cv::Mat& image) {
   const auto parent = std::filesystem::path(path).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   if (ec) return Error{parent.string() + ": " + ec.message()};
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, image);
-  } catch (const cv::Exception& e) {
-    return Error{path + ": " + e.what()};
-  }
-  if (!ok) return Error{path + ": cannot write PNG"};
-  return Status::Ok();
+  return codec::write_png(path, image);
 }
 
 std::vector<std::string> default_golden_scenarios() {

@@ -1,9 +1,9 @@
 #include "hal/sim/sonar_fan.hpp"
+#include "hal/codec/image_codec.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace orthosonar::sim {
@@ -59,8 +59,7 @@ Status write_fan_png(const SonarPing& ping, const std::string& path, int width_p
     cv::hconcat(out, scaled, both);
     out = both;
   }
-  if (!cv::imwrite(path, out)) return Error{"cannot write PNG '" + path + "'"};
-  return Status::Ok();
+  return codec::write_png(path, out);
 }
 
 }  // namespace orthosonar::sim

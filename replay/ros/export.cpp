@@ -14,8 +14,8 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "hal/codec/image_codec.hpp"
 #include "orthosonar/version.hpp"
 #include "replay/fixture.hpp"
 #include "replay/mcap_generic.hpp"
@@ -85,8 +85,9 @@ Result<Value> oculus_ping(const Event& e, const SonarPing& p, const ExportOption
     if (p.bytes_per_pixel != 1)
       return Error{"ping " + std::to_string(p.ping_id) + " has 16-bit pixels, which JPEG cannot hold: export with --image raw"};
     const cv::Mat m(p.rows, p.cols, CV_8U, const_cast<uint8_t*>(p.image.data()));
-    if (!cv::imencode(".jpg", m, jpeg, {cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality}))
-      return Error{"ping " + std::to_string(p.ping_id) + ": JPEG encoding failed"};
+    auto encoded = codec::encode_jpeg(m, o.jpeg_quality);
+    if (!encoded) return Error{"ping " + std::to_string(p.ping_id) + ": " + encoded.error().message};
+    jpeg = std::move(*encoded);
     image = msg({{"header", header(e.sequence, ns, frame)}, {"format", str("mono8; jpeg compressed ")},
                  {"data", Value::bytes(std::span<const uint8_t>(jpeg))}});
   } else {

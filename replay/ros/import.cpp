@@ -14,8 +14,8 @@
 #include <numbers>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "hal/codec/image_codec.hpp"
 #include "orthosonar/version.hpp"
 #include "replay/mcap_generic.hpp"
 #include "replay/ros/msg_types.hpp"
@@ -283,7 +283,7 @@ double oculus_frequency(uint16_t part, int mode) {
 constexpr uint64_t kImportMaxImagePixels = uint64_t{1} << 24;
 
 // Rows and columns stated by a PNG's IHDR or a JPEG's first frame header (SOFn), the header
-// cv::imdecode sizes its image by; nullopt when the bytes are neither or the header is cut.
+// the decoder sizes its image by; nullopt when the bytes are neither or the header is cut.
 std::optional<std::pair<uint32_t, uint32_t>> import_image_size(const uint8_t* d, size_t n) {
   auto be16 = [&](size_t at) { return static_cast<uint32_t>(d[at]) << 8 | d[at + 1]; };
   auto be32 = [&](size_t at) { return be16(at) << 16 | be16(at + 2); };
@@ -392,7 +392,7 @@ Result<SonarPing> convert_oculus(const MessageFields& f, const TopicRule& rule, 
     auto format = fi.get("format");
     const std::string fmt = format ? (*format)->as_string() : "";
     // The size the image's header states, checked before decoding: a few hundred bytes of
-    // JPEG can state 65535 x 65535 pixels, and imdecode allocates what the header says.
+    // JPEG can state 65535 x 65535 pixels, and the decoder allocates what the header says.
     const auto stated = import_image_size(bytes.data(), bytes.size());
     if (!stated)
       return Error{f.at + ": ping.data (format '" + fmt + "') is neither a JPEG nor a PNG image (no size in its header)"};
@@ -402,14 +402,10 @@ Result<SonarPing> convert_oculus(const MessageFields& f, const TopicRule& rule, 
     if (static_cast<uint64_t>(p.rows) * p.cols > kImportMaxImagePixels)
       return Error{f.at + ": the image is " + std::to_string(p.rows) + " x " + std::to_string(p.cols) + ", more than " +
                    std::to_string(kImportMaxImagePixels) + " pixels"};
-    const cv::Mat buf(1, static_cast<int>(bytes.size()), CV_8U, const_cast<uint8_t*>(bytes.data()));
-    cv::Mat m;
-    try {
-      m = cv::imdecode(buf, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
-    } catch (const cv::Exception&) {
-      m.release();
-    }
-    if (m.empty()) return Error{f.at + ": ping.data (format '" + fmt + "') does not decode as an image"};
+    auto decoded = codec::decode_image(bytes, codec::DecodeAs::kGray, f.at + ": ping.data (format '" + fmt + "')",
+                                       kImportMaxImagePixels);
+    if (!decoded) return decoded.error();
+    const cv::Mat& m = *decoded;
     if (m.rows != p.rows || m.cols != p.cols)
       return Error{f.at + ": the image is " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
                    " but num_ranges x num_beams is " + std::to_string(p.rows) + " x " + std::to_string(p.cols)};

@@ -16,8 +16,8 @@
 #include <numbers>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "hal/codec/image_codec.hpp"
 #include "replay/fixture.hpp"
 #include "replay/ros/import.hpp"
 #include "replay/ros/msg_encode.hpp"
@@ -257,7 +257,7 @@ TEST_CASE("the test's own recording imports (so each rejection below is its one 
     Params p;
     p.sonar = kind;
     std::vector<uint8_t> img = image_bytes();
-    REQUIRE(cv::imencode(".png", cv::Mat(16, 8, CV_8U, img.data()), p.compressed));
+    p.compressed = *codec::encode_png(cv::Mat(16, 8, CV_8U, img.data()));
     auto r = import_values("valid" + std::to_string(static_cast<int>(kind)), p);
     INFO((r.ok() ? "" : r.error().message));
     REQUIRE(r.ok());
@@ -336,7 +336,7 @@ TEST_CASE("import rejects raw image sizes and steps that are not numbers of byte
 TEST_CASE("import checks a compressed ping's stated size before decoding it", "[ros][import]") {
   Params p;
   p.sonar = SonarKind::kCompressed;
-  // 60000 x 60000 stated by 23 bytes: refused from the header, never handed to imdecode
+  // 60000 x 60000 stated by 23 bytes: refused from the header, never handed to the decoder
   // (which said only "does not decode as an image" after trying).
   p.compressed = jpeg_header_only(60000, 60000);
   check_rejected("jpeg_huge", p, "the image is 60000 x 60000 but num_ranges x num_beams is 16 x 8");
@@ -350,7 +350,7 @@ TEST_CASE("import checks a compressed ping's stated size before decoding it", "[
   p = {};
   p.sonar = SonarKind::kCompressed;
   std::vector<uint8_t> img = image_bytes();
-  REQUIRE(cv::imencode(".png", cv::Mat(16, 8, CV_8U, img.data()), p.compressed));
+  p.compressed = *codec::encode_png(cv::Mat(16, 8, CV_8U, img.data()));
   p.compressed[19] = 200;  // IHDR width 8 -> 200
   check_rejected("png_width", p, "the image is 16 x 200 but num_ranges x num_beams is 16 x 8");
   p.compressed = {'B', 'M', 0, 0, 0, 0};
