@@ -74,6 +74,7 @@ Result<SweepReport> sweep_one(const SweepArgs& a, const RunOptions& options, con
   });
   if (!ok.ok()) return ok.error();
   SweepReport report = make_sweep_report(*prepared, std::move(*ok));
+  report.input_cut = replay::cut_input_warning(fixture, prepared->recovery).value_or("");
   if (Status s = write_sweep_outputs(report, dir); !s.ok()) return s.error();
   if (!a.no_report) {
     if (Status s = write_reference_outputs(fixture, options, threads, dir); !s.ok()) return s.error();

@@ -685,6 +685,7 @@ int merge_sweep(const Plan& plan, const Gathered& g, const fs::path& out) {
       rep.inference_runtime = run::runtime_stats_from_json(r.at("inference_runtime"));
       rep.stream_s = r.at("stream_s").get<double>();
       rep.fuse_wall_s = r.at("fuse_wall_s").get<double>();
+      rep.input_cut = r.value("input_cut", std::string());
       reports.push_back(std::move(rep));
       seeds.push_back(key.second);
       reference_task.push_back(std::nullopt);

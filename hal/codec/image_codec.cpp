@@ -93,7 +93,7 @@ bool png_decode_into(PngContext& c, PngRead& r, DecodeAs as, uint64_t max_pixels
   png_set_interlace_handling(r.png);
   png_read_update_info(r.png, r.info);
   const int channels = as == DecodeAs::kBgr ? 3 : 1;
-  if (png_get_rowbytes(r.png, r.info) != static_cast<size_t>(width) * channels * (keep16 ? 2 : 1))
+  if (png_get_rowbytes(r.png, r.info) != static_cast<size_t>(width) * static_cast<size_t>(channels) * (keep16 ? 2u : 1u))
     png_error(r.png, "unexpected row size after the colour conversions");
   c.image.create(static_cast<int>(height), static_cast<int>(width), keep16 ? CV_16UC1 : CV_8UC(channels));
   c.rows.resize(height);

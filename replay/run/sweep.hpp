@@ -89,6 +89,9 @@ struct SweepReport {
   double stream_s = 0.0;
   double fuse_wall_s = 0.0;
   mapping::RuntimeStats inference_runtime;  // inference per frame (the preparation pass)
+  // Empty when the fixture was whole; else the warning naming it, the byte offset and what
+  // was recovered (replay::cut_input_warning): grid.json and tables.md record it (issue 40).
+  std::string input_cut;
 };
 SweepReport make_sweep_report(const PreparedSweep& prepared, std::vector<CellResult> cells);
 // The deterministic tables (coverage grid, Table II, ATE per cell): a pure function of the

@@ -118,6 +118,7 @@ std::string sweep_tables_markdown(const SweepReport& r) {
   std::ostringstream md;
   const auto names = system_names(r);
   md << "## " << r.scene << "\n\n";
+  if (!r.input_cut.empty()) md << "**INPUT CUT SHORT:** " << r.input_cut << ". These figures cover what was recovered.\n\n";
   md << "Coverage (occupied 0.1 m voxels); rows: keyframe rotation, columns: keyframe distance.\n\n";
   for (const auto& name : names) {
     md << "**" << name << "**\n\n| rotation \\ distance | 1 m | 2 m | 3 m | 4 m | 5 m |\n|---|---|---|---|---|---|\n";
@@ -176,6 +177,7 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
   nlohmann::json fixture = nlohmann::json::object();
   for (const auto& [k, v] : r.metadata) fixture[k] = v;
   j["fixture"] = fixture;
+  if (!r.input_cut.empty()) j["input_cut"] = r.input_cut;
   j["cells"] = nlohmann::json::array();
   std::ostringstream csv;
   csv << "system,distance_m,rotation_deg,coverage_voxels,mae_m,rmse_m,ate_dr_m,ate_slam_m,keyframes,true_pose_mae_m,"

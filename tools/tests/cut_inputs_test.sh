@@ -70,6 +70,9 @@ expect 1 sweep-cut "$exe" sweep --fixture tail20.mcap --cells 3/30 --workers 1 -
 warned sweep-cut tail20.mcap
 [ "$(json_get sweep-cut/summary.json "d['input']['complete']")" = False ] || fail "sweep: summary.json input"
 expect 0 sweep-allow "$exe" sweep --fixture tail20.mcap --cells 3/30 --workers 1 --no-report -o sweep-allow --allow-incomplete
+# Without the report (no summary.json), grid.json and tables.md still record the cut.
+grep -q '"input_cut": "tail20.mcap: input cut at byte offset' sweep-allow/grid.json || fail "sweep --no-report: grid.json does not record the cut"
+grep -q "INPUT CUT SHORT:\*\* tail20.mcap: input cut at byte offset" sweep-allow/tables.md || fail "sweep --no-report: tables.md does not record the cut"
 
 echo "== report"
 expect 1 report-cut "$exe" report r-cut -o rep-cut --allow-no-display
