@@ -2,6 +2,7 @@
 // with a brute-force reference (every method, window and edge), bit-identical agreement
 // of the row-wise fast path with the previous per-cell implementation (random and
 // realistic images, 8-bit, 16-bit and float, every config), and basic behaviour.
+// Both references live in cfar_reference.hpp (shared with cfar_bench.cpp).
 #include <rapidcheck/catch.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/perception/cfar.hpp"
+#include "core/perception/cfar_reference.hpp"
 #include "core/random.hpp"
 
 using namespace orthosonar;
@@ -29,236 +31,6 @@ std::vector<float> exponential_noise(int rows, int cols, double mean, uint64_t s
   for (float& x : img) x = static_cast<float>(rng.exponential(mean));
   return img;
 }
-
-// Direct summation over the training cells, same rules as the header states.
-std::vector<Detection> brute_force_cfar(const std::vector<float>& img, int rows, int cols, const CfarConfig& cfg) {
-  std::vector<Detection> out;
-  const int t = cfg.train_cells, g = cfg.guard_cells;
-  auto at = [&](int r, int c) { return static_cast<double>(img[static_cast<size_t>(r * cols + c)]); };
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) {
-      const double x = at(r, c);
-      if (!(x > cfg.gate)) continue;
-      std::vector<std::pair<double, int>> sides;  // (sum, count)
-      auto side = [&](int dr, int dc) {
-        double s = 0;
-        int n = 0;
-        for (int k = g + 1; k <= g + t; ++k) {
-          const int rr = r + dr * k, cc = c + dc * k;
-          if (rr < 0 || rr >= rows || cc < 0 || cc >= cols) continue;
-          s += at(rr, cc);
-          ++n;
-        }
-        if (n > 0) sides.push_back({s, n});
-      };
-      side(-1, 0);
-      side(1, 0);
-      if (cfg.window == CfarWindow::kCross) {
-        side(0, -1);
-        side(0, 1);
-      }
-      if (sides.empty()) continue;
-      double s = sides[0].first;
-      int n = sides[0].second;
-      if (cfg.method == CfarMethod::kCa) {
-        for (size_t i = 1; i < sides.size(); ++i) {
-          s += sides[i].first;
-          n += sides[i].second;
-        }
-      } else {
-        for (size_t i = 1; i < sides.size(); ++i) {
-          const double a = sides[i].first * n, b = s * sides[i].second;
-          if (cfg.method == CfarMethod::kSoca ? a < b : a > b) {
-            s = sides[i].first;
-            n = sides[i].second;
-          }
-        }
-      }
-      const bool hit = s > 0 ? x * n / s > cfar_alpha(n, cfg.pfa) : x > 0;
-      if (hit) out.push_back({r, c, static_cast<float>(x)});
-    }
-  }
-  return out;
-}
-
-// ---------------------------------------------------------------------------------------
-// The implementation before the row-wise fast path (per-cell prefix-sum test), kept verbatim
-// as the reference the fast path must match bit for bit, for every input and config.
-
-// Keeps detections with at least `min_n` of their 8 neighbours detected (neighbours
-// counted in the unfiltered set), using a rows x cols occupancy mask.
-std::vector<Detection> reference_filter_isolated(std::vector<Detection> dets, int min_n, int rows, int cols) {
-  if (min_n <= 0 || dets.empty()) return dets;
-  const size_t C = static_cast<size_t>(cols);
-  std::vector<uint8_t> mask(static_cast<size_t>(rows) * C, 0);
-  for (const Detection& d : dets) mask[static_cast<size_t>(d.row) * C + static_cast<size_t>(d.col)] = 1;
-  std::vector<Detection> kept;
-  for (const Detection& d : dets) {
-    int n = 0;
-    for (int r = std::max(0, d.row - 1); r <= std::min(rows - 1, d.row + 1); ++r)
-      for (int c = std::max(0, d.col - 1); c <= std::min(cols - 1, d.col + 1); ++c)
-        n += mask[static_cast<size_t>(r) * C + static_cast<size_t>(c)];
-    if (n - 1 >= min_n) kept.push_back(d);  // minus the cell itself
-  }
-  return kept;
-}
-
-// Prefix sums along range (per column) and along bearing (per row): O(1) per cell.
-// Acc is exact (integer) for integer images, so the ratio test below is exactly
-// scale-invariant: x N / S is a correctly rounded quotient of exactly scaled integers.
-template <class Pixel, class Acc>
-std::vector<Detection> reference_detect(const Pixel* img, int rows, int cols, const CfarConfig& cfg) {
-  std::vector<Detection> out;
-  if (rows <= 0 || cols <= 0 || cfg.train_cells <= 0 || cfg.guard_cells < 0) return out;
-  const size_t C = static_cast<size_t>(cols);
-  const bool cross = cfg.window == CfarWindow::kCross;
-  // Column prefix sums along range, P_i[c] = sum of rows [0, i) in column c, kept in a
-  // ring of the K most recent rows: a cell only ever needs P between its leading and
-  // lagging window ends, at most 2(g + t) + 1 rows apart. O(K cols) memory, cache-resident.
-  const int K = 2 * (cfg.guard_cells + cfg.train_cells) + 2;
-  std::vector<Acc> ring(static_cast<size_t>(K) * C, Acc{0});
-  auto prefix_row = [&](int i) { return ring.data() + static_cast<size_t>(i % K) * C; };
-  int computed = 0;  // P_0 .. P_computed are available (P_0 = 0 is the ring's zero row)
-  // Row prefix sums along bearing for the current row: Q[c] = sum of cols [0, c).
-  std::vector<Acc> q(C + 1, Acc{0});
-  std::vector<int> cand(C);
-  // x > gate, exactly, in the pixel's own type: for integers x > gate <=> x > floor(gate).
-  const double gate_floor = std::floor(std::clamp(cfg.gate, -1.0, 1e6));
-  const auto gate_i = static_cast<int64_t>(gate_floor);
-  const double gate_d = cfg.gate;
-  auto above_gate = [gate_i, gate_d](Pixel x) {
-    if constexpr (std::is_integral_v<Pixel>) {
-      return static_cast<int64_t>(x) > gate_i;
-    } else {
-      return static_cast<double>(x) > gate_d;
-    }
-  };
-  const int t = cfg.train_cells, g = cfg.guard_cells;
-  const int max_n = cross ? 4 * t : 2 * t;
-  std::vector<double> alpha(static_cast<size_t>(max_n) + 1, 0.0);
-  for (int n = 1; n <= max_n; ++n) alpha[static_cast<size_t>(n)] = cfar_alpha(n, cfg.pfa);
-
-  using Wide = std::conditional_t<std::is_integral_v<Acc>, int64_t, double>;
-  Wide sums[4];
-  int counts[4];
-  for (int r = 0; r < rows; ++r) {
-    // Range extents do not depend on the column.
-    const int lead_lo = std::max(0, r - g - t), lead_hi = r - g;          // rows [lo, hi)
-    const int lag_lo = r + g + 1, lag_hi = std::min(rows, r + g + 1 + t);
-    const int n_lead = std::max(0, lead_hi - lead_lo), n_lag = std::max(0, lag_hi - lag_lo);
-    while (computed < lag_hi) {  // P_{i+1} = P_i + row i
-      const Acc* prev = prefix_row(computed);
-      Acc* next = prefix_row(computed + 1);
-      const Pixel* src = img + static_cast<size_t>(computed) * C;
-      for (size_t c = 0; c < C; ++c) next[c] = prev[c] + static_cast<Acc>(src[c]);
-      ++computed;
-    }
-    const Pixel* line = img + static_cast<size_t>(r) * C;
-    // Cells above the gate, branch-free (most of a sonar image is below it).
-    size_t n_cand = 0;
-    for (size_t c = 0; c < C; ++c) {
-      cand[n_cand] = static_cast<int>(c);
-      n_cand += above_gate(line[c]) ? 1u : 0u;
-    }
-    if (n_cand == 0) continue;
-    if (cross) {
-      Acc acc{0};
-      for (size_t c = 0; c < C; ++c) {
-        acc += static_cast<Acc>(line[c]);
-        q[c + 1] = acc;
-      }
-    }
-    const Acc* lead_a = prefix_row(std::max(lead_lo, 0));
-    const Acc* lead_b = prefix_row(std::max(lead_hi, 0));
-    const Acc* lag_a = prefix_row(std::min(lag_lo, rows));
-    const Acc* lag_b = prefix_row(lag_hi);
-    for (size_t ci = 0; ci < n_cand; ++ci) {
-      const int c = cand[ci];
-      const Pixel x = line[c];
-      int k = 0;
-      if (n_lead > 0) {
-        sums[k] = static_cast<Wide>(lead_b[c] - lead_a[c]);
-        counts[k++] = n_lead;
-      }
-      if (n_lag > 0) {
-        sums[k] = static_cast<Wide>(lag_b[c] - lag_a[c]);
-        counts[k++] = n_lag;
-      }
-      if (cross) {
-        const int left_lo = std::max(0, c - g - t), left_hi = c - g;
-        const int right_lo = c + g + 1, right_hi = std::min(cols, c + g + 1 + t);
-        if (left_hi > left_lo) {
-          sums[k] = static_cast<Wide>(q[static_cast<size_t>(left_hi)] - q[static_cast<size_t>(left_lo)]);
-          counts[k++] = left_hi - left_lo;
-        }
-        if (right_hi > right_lo) {
-          sums[k] = static_cast<Wide>(q[static_cast<size_t>(right_hi)] - q[static_cast<size_t>(right_lo)]);
-          counts[k++] = right_hi - right_lo;
-        }
-      }
-      if (k == 0) continue;
-      Wide s = sums[0];
-      int n = counts[0];
-      if (cfg.method == CfarMethod::kCa) {
-        for (int i = 1; i < k; ++i) {
-          s += sums[i];
-          n += counts[i];
-        }
-      } else {
-        // Compare means s_i / n_i exactly by cross-multiplication; ties keep the first
-        // side in the fixed order (lead, lag, left, right).
-        const bool smallest = cfg.method == CfarMethod::kSoca;
-        for (int i = 1; i < k; ++i) {
-          const Wide a = sums[i] * static_cast<Wide>(n), b = s * static_cast<Wide>(counts[i]);
-          if (smallest ? a < b : a > b) {
-            s = sums[i];
-            n = counts[i];
-          }
-        }
-      }
-      const Wide xn = static_cast<Wide>(x) * static_cast<Wide>(n);
-      bool hit;
-      if (!(s > Wide{0})) {
-        hit = static_cast<double>(x) > 0.0;  // β = 0
-      } else {
-        // The rule is fl(x N / S) > α: a correctly rounded quotient of exactly scaled
-        // sums, hence exactly scale-invariant. Products decide it unless x N is within
-        // a relative 1e-12 of α S, where the quotient itself is computed.
-        const double a = alpha[static_cast<size_t>(n)];
-        const double lhs = static_cast<double>(xn), rhs = a * static_cast<double>(s);
-        if (lhs > rhs * (1.0 + 1e-12)) {
-          hit = true;
-        } else if (lhs < rhs * (1.0 - 1e-12)) {
-          hit = false;
-        } else {
-          hit = lhs / static_cast<double>(s) > a;
-        }
-      }
-      if (hit) out.push_back({r, c, static_cast<float>(x)});
-    }
-  }
-  return reference_filter_isolated(std::move(out), cfg.min_neighbours, rows, cols);
-}
-
-
-std::vector<Detection> reference_cfar(const SonarPing& ping, const CfarConfig& config) {
-  const int rows = ping.rows, cols = ping.cols;
-  const size_t n = static_cast<size_t>(rows) * static_cast<size_t>(cols);
-  if (ping.bytes_per_pixel == 1) {
-    if (ping.image.size() < n) return {};
-    return reference_detect<uint8_t, int32_t>(ping.image.data(), rows, cols, config);
-  }
-  if (ping.image.size() < 2 * n) return {};
-  std::vector<uint16_t> wide(n);
-  for (size_t i = 0; i < n; ++i)
-    wide[i] = static_cast<uint16_t>(ping.image[2 * i] | (ping.image[2 * i + 1] << 8));
-  return reference_detect<uint16_t, int64_t>(wide.data(), rows, cols, config);
-}
-
-std::vector<Detection> reference_cfar(const float* image, int rows, int cols, const CfarConfig& config) {
-  return reference_detect<float, double>(image, rows, cols, config);
-}
-// ---------------------------------------------------------------------------------------
 
 double false_alarm_rate(CfarMethod method, CfarWindow window, double pfa) {
   const int rows = 1000, cols = 1000;
@@ -311,7 +83,7 @@ TEST_CASE("Prefix-sum CFAR equals the brute-force reference including edges", "[
     cfg.pfa = 0.05;
     cfg.gate = static_cast<double>(rng.below(100));
     const auto fast = cfar_detect(img.data(), rows, cols, cfg);
-    const auto slow = brute_force_cfar(img, rows, cols, cfg);
+    const auto slow = reference::naive_detect(img.data(), rows, cols, cfg);
     INFO("trial " << trial << " " << rows << "x" << cols);
     REQUIRE(fast.size() == slow.size());
     for (size_t i = 0; i < fast.size(); ++i) {
@@ -471,11 +243,11 @@ std::string compare_once(const std::vector<double>& v, int rows, int cols, Depth
     std::vector<float> img(v.size());
     for (size_t i = 0; i < v.size(); ++i) img[i] = static_cast<float>(v[i]);
     fast = cfar_detect(img.data(), rows, cols, cfg);
-    ref = reference_cfar(img.data(), rows, cols, cfg);
+    ref = reference::cfar(img.data(), rows, cols, cfg);
   } else {
     const SonarPing p = ping_from(v, rows, cols, d);
     fast = cfar_detect(p, cfg);
-    ref = reference_cfar(p, cfg);
+    ref = reference::cfar(p, cfg);
   }
   if (n_detections) *n_detections = ref.size();
   if (same_detections(fast, ref)) return "";
@@ -632,5 +404,60 @@ TEST_CASE("Fast CFAR equals the previous implementation on realistic speckle", "
         }
       }
     }
+  }
+}
+
+// The side-by-side benchmark (cfar_bench.cpp) times cfar_detect against the naive
+// direct-summation loop on this image: all three must agree on it, bit for bit.
+TEST_CASE("CFAR on the benchmark image equals both references", "[unit]") {
+  struct Case {
+    int rows, cols, targets;
+  };
+  for (const Case& k : {Case{600, 512, 300}, Case{150, 128, 20}}) {
+    const SonarPing img = reference::speckle_with_targets(k.rows, k.cols, 20.0, k.targets, 37);
+    for (CfarWindow w : {CfarWindow::kRange, CfarWindow::kCross}) {
+      for (double gate : {-1.0, 0.0, 65.0}) {
+        CfarConfig cfg;
+        cfg.method = CfarMethod::kSoca;
+        cfg.window = w;
+        cfg.train_cells = 20;
+        cfg.guard_cells = 5;
+        cfg.pfa = 0.1;
+        cfg.gate = gate;
+        const auto fast = cfar_detect(img, cfg);
+        const auto ref = reference::cfar(img, cfg);
+        const auto naive = reference::naive_cfar(img, cfg);
+        INFO(describe(cfg, k.rows, k.cols, Depth::k8) << " fast " << fast.size() << " reference " << ref.size()
+                                                      << " naive " << naive.size());
+        CHECK(same_detections(fast, ref));
+        CHECK(same_detections(fast, naive));
+        // Gate off: the design Pfa gives detections in the order of 10 % of the cells.
+        if (gate < 0) CHECK(fast.size() * 20 > static_cast<size_t>(k.rows * k.cols));
+        if (gate >= 65) CHECK(!fast.empty());
+      }
+    }
+  }
+}
+
+TEST_CASE("The naive reference equals the fast path on random integer images", "[unit]") {
+  for (Depth d : {Depth::k8, Depth::k16}) {
+    int failures = 0;
+    for (int i = 0; i < 600 && failures < 5; ++i) {
+      Rng rng(derive_seed(20261205, static_cast<uint64_t>(d), static_cast<uint64_t>(i)));
+      int rows, cols;
+      random_size(rng, rows, cols);
+      const CfarConfig cfg = random_config(rng, d);
+      const double maxv = d == Depth::k16 ? 65535.0 : 255.0;
+      const std::vector<double> v = random_values(rng, rows, cols, maxv, static_cast<int>(rng.below(6)));
+      const SonarPing p = ping_from(v, rows, cols, d);
+      const auto fast = cfar_detect(p, cfg);
+      const auto naive = reference::naive_cfar(p, cfg);
+      if (!same_detections(fast, naive)) {
+        ++failures;
+        FAIL_CHECK("seed index " << i << ": " << describe(cfg, rows, cols, d) << ": fast " << fast.size()
+                                 << " detections, naive " << naive.size());
+      }
+    }
+    CHECK(failures == 0);
   }
 }
