@@ -9,9 +9,9 @@ test: build
 demo: build
 	xvfb-run -a build/release/tools/orthosonar demo -o out/demo
 asan: deps
-	cmake --preset asan && cmake --build --preset asan -j2 && xvfb-run -a ctest --preset asan -j2
+	cmake --preset asan && cmake --build --preset asan -j2 && xvfb-run -a ctest --preset asan -j2 && tools/fuzz-all 15
 fuzz: deps
-	cmake --preset fuzz && cmake --build --preset fuzz -j2 && tools/fuzz-all 15
+	cmake --preset fuzz && cmake --build --preset fuzz -j2 && FUZZ_BUILD=build/fuzz tools/fuzz-all 15
 bench: build
 	build/release/orthosonar_bench
 clean:

@@ -20,10 +20,42 @@ Grid2d::Grid2d(const std::vector<Eigen::Vector2d>& points, double cell_m)
     if (a.cy != b.cy) return a.cy < b.cy;
     return a.index < b.index;
   });
+  if (entries_.empty() || entries_.size() >= std::numeric_limits<uint32_t>::max()) return;
+  long long max_cx = entries_.front().cx, max_cy = entries_.front().cy;
+  min_cx_ = entries_.front().cx;
+  min_cy_ = entries_.front().cy;
+  for (const Entry& e : entries_) {
+    min_cy_ = std::min(min_cy_, e.cy);
+    max_cy = std::max(max_cy, e.cy);
+    max_cx = std::max(max_cx, e.cx);
+  }
+  // A dense table only where it stays small next to the points (no overflow: each side is
+  // checked before the product).
+  const long long kMaxSide = 1 << 16;
+  const long long max_cells = std::max<long long>(1 << 16, 16 * static_cast<long long>(entries_.size()));
+  if (max_cx - min_cx_ >= kMaxSide || max_cy - min_cy_ >= kMaxSide) return;
+  nx_ = max_cx - min_cx_ + 1;
+  ny_ = max_cy - min_cy_ + 1;
+  if (nx_ * ny_ > max_cells) return;
+  // Entries are sorted by (cx, cy), which is the order of k: starts_[k] is the first entry
+  // whose cell index is >= k.
+  starts_.assign(static_cast<size_t>(nx_ * ny_ + 1), 0);
+  size_t e = 0;
+  for (long long k = 0; k <= nx_ * ny_; ++k) {
+    while (e < entries_.size() && (entries_[e].cx - min_cx_) * ny_ + (entries_[e].cy - min_cy_) < k) ++e;
+    starts_[static_cast<size_t>(k)] = static_cast<uint32_t>(e);
+  }
 }
 
 template <class F>
 void Grid2d::for_cell(long long cx, long long cy, F&& f) const {
+  if (!starts_.empty()) {
+    const long long dx = cx - min_cx_, dy = cy - min_cy_;
+    if (dx < 0 || dy < 0 || dx >= nx_ || dy >= ny_) return;
+    const auto k = static_cast<size_t>(dx * ny_ + dy);
+    for (uint32_t i = starts_[k]; i < starts_[k + 1]; ++i) f(entries_[i].index);
+    return;
+  }
   auto it = std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(cx, cy),
                              [](const Entry& e, const std::pair<long long, long long>& k) {
                                return e.cx != k.first ? e.cx < k.first : e.cy < k.second;

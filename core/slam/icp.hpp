@@ -2,6 +2,7 @@
 // 2D point-to-point ICP with trimming (SPEC §5), deterministic: nearest neighbours from a
 // sorted uniform grid, correspondences trimmed by distance with index tie-breaks.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/geometry.hpp"
@@ -81,6 +82,11 @@ class Grid2d {
   const std::vector<Eigen::Vector2d>* points_;
   double cell_m_;
   std::vector<Entry> entries_;  // sorted by (cx, cy, index)
+  // When the occupied cells' bounding box is small (the usual scan), the entries of cell
+  // (cx, cy) are entries_[starts_[k], starts_[k + 1]) with k = (cx - min_cx_) * ny_ + (cy - min_cy_):
+  // one lookup instead of a binary search per cell. Otherwise starts_ is empty.
+  std::vector<uint32_t> starts_;
+  long long min_cx_ = 0, min_cy_ = 0, nx_ = 0, ny_ = 0;
 };
 
 }  // namespace orthosonar::slam

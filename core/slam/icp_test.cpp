@@ -36,24 +36,41 @@ TEST_CASE("ICP reports failure without enough correspondences", "[unit]") {
   CHECK_FALSE(icp_2d({}, b, SE2::identity(), {}).converged);
 }
 
-TEST_CASE("Grid nearest neighbour agrees with brute force", "[unit]") {
-  Rng rng(3);
-  std::vector<Eigen::Vector2d> pts;
-  for (int i = 0; i < 500; ++i) pts.emplace_back(rng.uniform(-10, 10), rng.uniform(-10, 10));
-  const Grid2d grid(pts, 1.5);
-  for (int q = 0; q < 200; ++q) {
-    const Eigen::Vector2d x(rng.uniform(-12, 12), rng.uniform(-12, 12));
-    long best = -1;
-    double bd = 1.5 * 1.5;
-    for (size_t i = 0; i < pts.size(); ++i) {
-      const double d = (pts[i] - x).squaredNorm();
-      if (d < bd) {
-        bd = d;
-        best = static_cast<long>(i);
+// Both lookups: the dense cell table (points within a small box) and the sorted-entry
+// search it falls back to (points spread over 1e6 m: a box of ~1e12 cells). Repeated
+// points check the tie rule (the lowest index), `within` and `count_within` the radius.
+TEST_CASE("Grid nearest neighbour and radius queries agree with brute force", "[unit]") {
+  for (const double spread : {10.0, 1e6}) {
+    CAPTURE(spread);
+    Rng rng(3);
+    std::vector<Eigen::Vector2d> pts;
+    for (int i = 0; i < 500; ++i) pts.emplace_back(rng.uniform(-10, 10), rng.uniform(-10, 10));
+    for (int i = 0; i < 20; ++i) pts.push_back(pts[static_cast<size_t>(i * 7)]);  // exact duplicates
+    for (int i = 0; i < 30; ++i) pts.emplace_back(rng.uniform(-spread, spread), rng.uniform(-spread, spread));
+    const Grid2d grid(pts, 1.5);
+    for (int q = 0; q < 300; ++q) {
+      const Eigen::Vector2d x = q % 5 == 0 ? pts[static_cast<size_t>(q)]
+                                           : Eigen::Vector2d(rng.uniform(-12, 12), rng.uniform(-12, 12));
+      long best = -1;
+      double bd = 1.5 * 1.5;
+      std::vector<long> near;
+      for (size_t i = 0; i < pts.size(); ++i) {
+        const double d = (pts[i] - x).squaredNorm();
+        if (d < bd) {
+          bd = d;
+          best = static_cast<long>(i);
+        }
+        if (d <= 1.2 * 1.2) near.push_back(static_cast<long>(i));
       }
+      double got_d2 = -1;
+      CHECK(grid.nearest(x, 1.5, &got_d2) == best);
+      if (best >= 0) CHECK(got_d2 == bd);
+      CHECK(grid.within(x, 1.2) == near);
+      CHECK(grid.count_within(x, 1.2) == near.size());
     }
-    CHECK(grid.nearest(x, 1.5) == best);
+    CHECK(grid.nearest({3 * spread, 0.0}, 1.5) == -1);  // outside every occupied cell
   }
+  CHECK(Grid2d({}, 1.0).nearest({0, 0}, 5.0) == -1);
 }
 
 TEST_CASE("Voxel downsample keeps one centroid per voxel in sorted order", "[unit]") {

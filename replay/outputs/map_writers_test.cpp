@@ -196,14 +196,16 @@ TEST_CASE("OctoMap file marks the points occupied", "[unit]") {
 // now counts what it could not insert, and the run reports it in summary.json.
 TEST_CASE("OctoMap points outside its key range are counted, not dropped silently", "[unit]") {
   const std::vector<Eigen::Vector3f> pts = {{1.05f, 2.05f, -3.05f}, {1e7f, 0.0f, -3.0f}, {3300.0f, 0.0f, 0.0f},
-                                            {std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f}};
+                                            {std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f},
+                                            {0.0f, -1e30f, 0.0f},  // beyond int when scaled: OctoMap's cast would be UB
+                                            {0.0f, 0.0f, std::numeric_limits<float>::infinity()}};
   const auto path = (out_dir() / "outside.bt").string();
   size_t outside = 99;
   REQUIRE(outputs::write_octomap(path, pts, 0.1, &outside).ok());
-  CHECK(outside == 3);  // 1e7 m and 3300 m lie beyond +-3276.8 m at 0.1 m; NaN has no key
+  CHECK(outside == 5);  // 1e7 m and 3300 m lie beyond +-3276.8 m at 0.1 m; NaN, 1e30 and inf have no key
   octomap::OcTree tree(path);
   CHECK(tree.getNumLeafNodes() == 1);
   // At 1 m the tree holds +-32768 m: 3300 m fits.
   REQUIRE(outputs::write_octomap(path, pts, 1.0, &outside).ok());
-  CHECK(outside == 2);
+  CHECK(outside == 4);
 }
