@@ -9,7 +9,6 @@
 //   orthosonar_bench --benchmark_filter='BM_Cfar37'
 #include <benchmark/benchmark.h>
 
-#include <cstring>
 #include <vector>
 
 #include "core/perception/cfar.hpp"
@@ -25,33 +24,13 @@ const SonarPing& issue_image() {
   return p;
 }
 
-CfarConfig issue_config(CfarWindow window, double gate) {
-  CfarConfig cfg;
-  cfg.method = CfarMethod::kSoca;
-  cfg.window = window;
-  cfg.train_cells = 20;
-  cfg.guard_cells = 5;
-  cfg.pfa = 0.1;
-  cfg.gate = gate;
-  cfg.min_neighbours = 0;
-  return cfg;
-}
-
-bool same(const std::vector<Detection>& a, const std::vector<Detection>& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i)
-    if (a[i].row != b[i].row || a[i].col != b[i].col || std::memcmp(&a[i].intensity, &b[i].intensity, sizeof(float)) != 0)
-      return false;
-  return true;
-}
-
 // One image per iteration, ours or naive; the detection count and the fraction of cells
 // detected as counters.
 void BM_Cfar37(benchmark::State& state, CfarWindow window, double gate, bool naive) {
   const SonarPing& img = issue_image();
-  const CfarConfig cfg = issue_config(window, gate);
+  const CfarConfig cfg = reference::speckle_with_targets_config(window, gate);
   const auto ours = cfar_detect(img, cfg);
-  if (!same(ours, reference::naive_cfar(img, cfg))) {
+  if (!reference::same_detections(ours, reference::naive_cfar(img, cfg))) {
     state.SkipWithError("cfar_detect and the naive reference disagree on this image");
     return;
   }

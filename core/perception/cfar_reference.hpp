@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -302,6 +303,30 @@ inline SonarPing speckle_with_targets(int rows, int cols, double mean, int targe
             static_cast<uint8_t>(150 + rng.below(106));
   }
   return p;
+}
+
+// The benchmark's configuration on that image: SOCA, 20 training and 5 guard cells per
+// side, Pfa 0.1, no speckle filter; `gate` -1 tests every cell.
+inline CfarConfig speckle_with_targets_config(CfarWindow window, double gate) {
+  CfarConfig cfg;
+  cfg.method = CfarMethod::kSoca;
+  cfg.window = window;
+  cfg.train_cells = 20;
+  cfg.guard_cells = 5;
+  cfg.pfa = 0.1;
+  cfg.gate = gate;
+  cfg.min_neighbours = 0;
+  return cfg;
+}
+
+// Bit-for-bit equality of two detection lists (intensities compared as bytes).
+inline bool same_detections(const std::vector<Detection>& a, const std::vector<Detection>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].row != b[i].row || a[i].col != b[i].col) return false;
+    if (std::memcmp(&a[i].intensity, &b[i].intensity, sizeof(float)) != 0) return false;
+  }
+  return true;
 }
 
 }  // namespace orthosonar::perception::reference

@@ -9,7 +9,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -226,15 +225,6 @@ SonarPing ping_from(const std::vector<double>& v, int rows, int cols, Depth d) {
   return p;
 }
 
-bool same_detections(const std::vector<Detection>& a, const std::vector<Detection>& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i].row != b[i].row || a[i].col != b[i].col) return false;
-    if (std::memcmp(&a[i].intensity, &b[i].intensity, sizeof(float)) != 0) return false;
-  }
-  return true;
-}
-
 // Runs the fast path and the reference on the same image; returns "" when they agree.
 std::string compare_once(const std::vector<double>& v, int rows, int cols, Depth d, const CfarConfig& cfg,
                          bool real_valued = false, size_t* n_detections = nullptr) {
@@ -250,7 +240,7 @@ std::string compare_once(const std::vector<double>& v, int rows, int cols, Depth
     ref = reference::cfar(p, cfg);
   }
   if (n_detections) *n_detections = ref.size();
-  if (same_detections(fast, ref)) return "";
+  if (reference::same_detections(fast, ref)) return "";
   std::ostringstream os;
   os << describe(cfg, rows, cols, d) << (real_valued ? " real-valued" : "") << ": fast " << fast.size()
      << " detections, reference " << ref.size();
@@ -417,20 +407,14 @@ TEST_CASE("CFAR on the benchmark image equals both references", "[unit]") {
     const SonarPing img = reference::speckle_with_targets(k.rows, k.cols, 20.0, k.targets, 37);
     for (CfarWindow w : {CfarWindow::kRange, CfarWindow::kCross}) {
       for (double gate : {-1.0, 0.0, 65.0}) {
-        CfarConfig cfg;
-        cfg.method = CfarMethod::kSoca;
-        cfg.window = w;
-        cfg.train_cells = 20;
-        cfg.guard_cells = 5;
-        cfg.pfa = 0.1;
-        cfg.gate = gate;
+        const CfarConfig cfg = reference::speckle_with_targets_config(w, gate);
         const auto fast = cfar_detect(img, cfg);
         const auto ref = reference::cfar(img, cfg);
         const auto naive = reference::naive_cfar(img, cfg);
         INFO(describe(cfg, k.rows, k.cols, Depth::k8) << " fast " << fast.size() << " reference " << ref.size()
                                                       << " naive " << naive.size());
-        CHECK(same_detections(fast, ref));
-        CHECK(same_detections(fast, naive));
+        CHECK(reference::same_detections(fast, ref));
+        CHECK(reference::same_detections(fast, naive));
         // Gate off: the design Pfa gives detections in the order of 10 % of the cells.
         if (gate < 0) CHECK(fast.size() * 20 > static_cast<size_t>(k.rows * k.cols));
         if (gate >= 65) CHECK(!fast.empty());
@@ -452,7 +436,7 @@ TEST_CASE("The naive reference equals the fast path on random integer images", "
       const SonarPing p = ping_from(v, rows, cols, d);
       const auto fast = cfar_detect(p, cfg);
       const auto naive = reference::naive_cfar(p, cfg);
-      if (!same_detections(fast, naive)) {
+      if (!reference::same_detections(fast, naive)) {
         ++failures;
         FAIL_CHECK("seed index " << i << ": " << describe(cfg, rows, cols, d) << ": fast " << fast.size()
                                  << " detections, naive " << naive.size());

@@ -20,11 +20,11 @@ Status write_octomap(const std::string& path, const std::vector<Eigen::Vector3f>
                      double resolution_m, size_t* outside_key_range) {
   octomap::OcTree tree(resolution_m);
   size_t outside = 0;
+  // coordToKeyChecked casts coordinate / resolution to int before it checks the range:
+  // undefined for NaN or beyond int's range (clang's UBSan). Anything beyond twice the key
+  // range (+-32768 cells) is outside it anyway; the rest is OctoMap's to decide.
+  const double limit = 65536.0 * resolution_m;
   for (const auto& p : points) {
-    // coordToKeyChecked casts coordinate / resolution to int before it checks the range:
-    // undefined for NaN or beyond int's range (clang's UBSan). Anything beyond twice the
-    // key range (+-32768 cells) is outside it anyway; the rest is OctoMap's to decide.
-    const double limit = 65536.0 * resolution_m;
     const bool castable = p.allFinite() && std::abs(p.x()) < limit && std::abs(p.y()) < limit && std::abs(p.z()) < limit;
     const octomap::point3d q(p.x(), p.y(), p.z());
     octomap::OcTreeKey key;
