@@ -3,14 +3,18 @@
 //
 // Two references of the rule cfar.hpp states, both per cell and written for clarity:
 //  - detect / cfar: the implementation before the row-wise fast path (prefix sums, O(1)
-//    per cell, every cell above the gate tested on its own), kept verbatim as the
-//    reference the fast path must match bit for bit, for every input and config;
+//    per cell, every cell above the gate tested on its own), kept (but for the rule
+//    pieces below) as the reference the fast path must match bit for bit, always;
 //  - naive_detect / naive_cfar: direct summation over the training cells, O(train cells)
 //    per cell, the way the method is usually written (sonar-SLAM's `soca` loop): the
 //    baseline of the side-by-side benchmark (cfar_bench.cpp).
 // For integer images both give exactly the fast path's output (sums are exact integers,
 // and the decision is fl(x N / S) > α in every implementation); for float images naive
 // sums in its own order, so it agrees only where the sums are exact (integer values).
+// The rule's scalar pieces (α, gate, choice of side, decision, speckle filter) are
+// cfar_rule.hpp's, shared with the fast paths: what the reference checks is how the fast
+// paths form the sums and apply the rule to every cell, and naive_detect keeps its own
+// choice of side and decision as an independent check of those.
 // Plus the image of the side-by-side benchmark (issue 37), shared with its unit test.
 // Header-only, for test and benchmark programs.
 #include <algorithm>
@@ -23,27 +27,10 @@
 
 #include "core/events.hpp"
 #include "core/perception/cfar.hpp"
+#include "core/perception/cfar_rule.hpp"
 #include "core/random.hpp"
 
 namespace orthosonar::perception::reference {
-
-// Keeps detections with at least `min_n` of their 8 neighbours detected (neighbours
-// counted in the unfiltered set), using a rows x cols occupancy mask.
-inline std::vector<Detection> filter_isolated(std::vector<Detection> dets, int min_n, int rows, int cols) {
-  if (min_n <= 0 || dets.empty()) return dets;
-  const size_t C = static_cast<size_t>(cols);
-  std::vector<uint8_t> mask(static_cast<size_t>(rows) * C, 0);
-  for (const Detection& d : dets) mask[static_cast<size_t>(d.row) * C + static_cast<size_t>(d.col)] = 1;
-  std::vector<Detection> kept;
-  for (const Detection& d : dets) {
-    int n = 0;
-    for (int r = std::max(0, d.row - 1); r <= std::min(rows - 1, d.row + 1); ++r)
-      for (int c = std::max(0, d.col - 1); c <= std::min(cols - 1, d.col + 1); ++c)
-        n += mask[static_cast<size_t>(r) * C + static_cast<size_t>(c)];
-    if (n - 1 >= min_n) kept.push_back(d);  // minus the cell itself
-  }
-  return kept;
-}
 
 // Prefix sums along range (per column) and along bearing (per row): O(1) per cell.
 // Acc is exact (integer) for integer images, so the ratio test below is exactly
@@ -64,9 +51,7 @@ std::vector<Detection> detect(const Pixel* img, int rows, int cols, const CfarCo
   // Row prefix sums along bearing for the current row: Q[c] = sum of cols [0, c).
   std::vector<Acc> q(C + 1, Acc{0});
   std::vector<int> cand(C);
-  // x > gate, exactly, in the pixel's own type: for integers x > gate <=> x > floor(gate).
-  const double gate_floor = std::floor(std::clamp(cfg.gate, -1.0, 1e6));
-  const auto gate_i = static_cast<int64_t>(gate_floor);
+  const int64_t gate_i = detail::integer_gate(cfg.gate);
   const double gate_d = cfg.gate;
   auto above_gate = [gate_i, gate_d](Pixel x) {
     if constexpr (std::is_integral_v<Pixel>) {
@@ -77,8 +62,7 @@ std::vector<Detection> detect(const Pixel* img, int rows, int cols, const CfarCo
   };
   const int t = cfg.train_cells, g = cfg.guard_cells;
   const int max_n = cross ? 4 * t : 2 * t;
-  std::vector<double> alpha(static_cast<size_t>(max_n) + 1, 0.0);
-  for (int n = 1; n <= max_n; ++n) alpha[static_cast<size_t>(n)] = cfar_alpha(n, cfg.pfa);
+  const std::vector<double> alpha = detail::alpha_table(max_n, cfg.pfa);
 
   using Wide = std::conditional_t<std::is_integral_v<Acc>, int64_t, double>;
   Wide sums[4];
@@ -139,47 +123,17 @@ std::vector<Detection> detect(const Pixel* img, int rows, int cols, const CfarCo
         }
       }
       if (k == 0) continue;
-      Wide s = sums[0];
-      int n = counts[0];
-      if (cfg.method == CfarMethod::kCa) {
-        for (int i = 1; i < k; ++i) {
-          s += sums[i];
-          n += counts[i];
-        }
-      } else {
-        // Compare means s_i / n_i exactly by cross-multiplication; ties keep the first
-        // side in the fixed order (lead, lag, left, right).
-        const bool smallest = cfg.method == CfarMethod::kSoca;
-        for (int i = 1; i < k; ++i) {
-          const Wide a = sums[i] * static_cast<Wide>(n), b = s * static_cast<Wide>(counts[i]);
-          if (smallest ? a < b : a > b) {
-            s = sums[i];
-            n = counts[i];
-          }
-        }
-      }
+      Wide s;
+      int n;
+      detail::choose(cfg.method, sums, counts, k, s, n);  // the rule's choice of side (cfar_rule.hpp)
       const Wide xn = static_cast<Wide>(x) * static_cast<Wide>(n);
-      bool hit;
-      if (!(s > Wide{0})) {
-        hit = static_cast<double>(x) > 0.0;  // β = 0
-      } else {
-        // The rule is fl(x N / S) > α: a correctly rounded quotient of exactly scaled
-        // sums, hence exactly scale-invariant. Products decide it unless x N is within
-        // a relative 1e-12 of α S, where the quotient itself is computed.
-        const double a = alpha[static_cast<size_t>(n)];
-        const double lhs = static_cast<double>(xn), rhs = a * static_cast<double>(s);
-        if (lhs > rhs * (1.0 + 1e-12)) {
-          hit = true;
-        } else if (lhs < rhs * (1.0 - 1e-12)) {
-          hit = false;
-        } else {
-          hit = lhs / static_cast<double>(s) > a;
-        }
-      }
+      const bool hit = !(s > Wide{0}) ? static_cast<double>(x) > 0.0  // β = 0
+                                      : detail::ratio_test(static_cast<double>(xn), alpha[static_cast<size_t>(n)],
+                                                           static_cast<double>(s));
       if (hit) out.push_back({r, c, static_cast<float>(x)});
     }
   }
-  return filter_isolated(std::move(out), cfg.min_neighbours, rows, cols);
+  return detail::filter_isolated(std::move(out), cfg.min_neighbours, rows, cols);
 }
 
 // 16-bit little-endian ping pixels as values.
@@ -220,8 +174,7 @@ std::vector<Detection> naive_detect(const Pixel* img, int rows, int cols, const 
   const int t = cfg.train_cells, g = cfg.guard_cells;
   const bool cross = cfg.window == CfarWindow::kCross;
   const int max_n = cross ? 4 * t : 2 * t;
-  std::vector<double> alpha(static_cast<size_t>(max_n) + 1, 0.0);
-  for (int n = 1; n <= max_n; ++n) alpha[static_cast<size_t>(n)] = cfar_alpha(n, cfg.pfa);
+  const std::vector<double> alpha = detail::alpha_table(max_n, cfg.pfa);
   const auto stride = static_cast<ptrdiff_t>(cols);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
@@ -266,7 +219,7 @@ std::vector<Detection> naive_detect(const Pixel* img, int rows, int cols, const 
       if (hit) out.push_back({r, c, static_cast<float>(x)});
     }
   }
-  return filter_isolated(std::move(out), cfg.min_neighbours, rows, cols);
+  return detail::filter_isolated(std::move(out), cfg.min_neighbours, rows, cols);
 }
 
 inline std::vector<Detection> naive_cfar(const SonarPing& ping, const CfarConfig& config) {
