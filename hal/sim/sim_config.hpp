@@ -9,6 +9,7 @@
 #include "core/geometry.hpp"
 #include "core/mesh.hpp"
 #include "core/result.hpp"
+#include "hal/config/pose6.hpp"
 
 namespace orthosonar::sim {
 
@@ -184,7 +185,7 @@ struct SimConfigKeyRange {
 std::vector<SimConfigKeyRange> sim_config_key_ranges();
 
 // "x y z roll pitch yaw" (metres, radians), as fixture metadata stores extrinsics.
-std::string format_pose6(const SE3& T);
-Result<SE3> parse_pose6(const std::string& s);
+using config::format_pose6;
+using config::parse_pose6;
 
 }  // namespace orthosonar::sim

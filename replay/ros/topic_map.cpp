@@ -1,5 +1,6 @@
 #include "replay/ros/topic_map.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -8,6 +9,8 @@
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
+
+#include "hal/config/pose6.hpp"
 
 namespace orthosonar::replay::ros {
 namespace {
@@ -40,25 +43,23 @@ Result<double> number(const YAML::Node& n, const std::string& where) {
 }
 
 // "x y z roll pitch yaw" as fixture metadata stores extrinsics (lossless).
-std::string pose6_text(const double (&v)[6]) {
+std::string pose6_text(const std::array<double, 6>& v) {
   std::string out;
-  for (int i = 0; i < 6; ++i) out += (i ? " " : "") + fmt17(v[i]);
+  for (size_t i = 0; i < 6; ++i) out += (i ? " " : "") + fmt17(v[i]);
   return out;
 }
 
 // A mount: "x y z roll pitch yaw" (metres, radians) or {xyz: [x, y, z], rpy_deg: [r, p, y]}.
 Result<std::string> mount(const YAML::Node& n, const std::string& where) {
   if (n.IsScalar()) {
-    std::istringstream in(n.Scalar());
-    double v[6];
-    for (double& x : v)
-      if (!(in >> x) || !std::isfinite(x)) return Error{where + ": expected \"x y z roll pitch yaw\" (metres, radians)"};
-    std::string rest;
-    if (in >> rest) return Error{where + ": more than six numbers"};
-    return pose6_text(v);
+    const config::Pose6Text p = config::read_pose6(n.Scalar());
+    if (p.fault == config::Pose6Text::Fault::kNotSixFiniteNumbers)
+      return Error{where + ": expected \"x y z roll pitch yaw\" (metres, radians)"};
+    if (p.fault == config::Pose6Text::Fault::kTrailingText) return Error{where + ": more than six numbers"};
+    return pose6_text(p.v);
   }
   if (!n.IsMap()) return Error{where + ": expected \"x y z roll pitch yaw\" or {xyz: [...], rpy_deg: [...]}"};
-  double v[6] = {0, 0, 0, 0, 0, 0};
+  std::array<double, 6> v = {0, 0, 0, 0, 0, 0};
   for (const auto& kv : n) {
     auto k = key_name(kv.first, where);
     if (!k) return k.error();

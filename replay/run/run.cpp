@@ -20,6 +20,7 @@
 #include "core/inference/inference_mapping.hpp"
 #include "core/inference/numeric_pins.hpp"
 #include "core/mapping/systems.hpp"
+#include "hal/config/pose6.hpp"
 #include "hal/sim/mesh_io.hpp"
 #include "hal/sim/scene.hpp"
 #include "orthosonar/version.hpp"
@@ -342,18 +343,6 @@ bool is_cancelled(const Error& e) { return e.message.rfind(kCancelledPrefix, 0) 
 
 namespace {
 
-// "x y z roll pitch yaw" (metres, radians) as fixture metadata stores extrinsics.
-bool parse_pose6(const std::string& text, SE3& T) {
-  std::istringstream in(text);
-  double v[6];
-  for (double& x : v)
-    if (!(in >> x) || !std::isfinite(x)) return false;
-  std::string rest;
-  if (in >> rest) return false;
-  T = se3_from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5]);
-  return true;
-}
-
 // Flattens a config JSON into "a.b.c" -> value text.
 void flatten(const nlohmann::json& j, const std::string& prefix, std::map<std::string, std::string>& out) {
   if (j.is_object()) {
@@ -385,9 +374,11 @@ Result<RunConfig> effective_config(const std::map<std::string, std::string>& met
                                     std::pair<const char*, SE3*>{"T_V_v", &from_fixture.pipeline.fusion.T_V_v}}) {
     const auto it = metadata.find(key);
     if (it == metadata.end()) continue;
-    if (!parse_pose6(it->second, *target))
+    const auto pose = config::parse_pose6(it->second);
+    if (!pose.ok())
       return Error{std::string("fixture metadata '") + key + "' = '" + it->second +
                    "' is not six finite numbers 'x y z roll pitch yaw' (m, rad)"};
+    *target = *pose;
   }
   apply_mission_start(metadata, from_fixture, attachments);
   note_changes(c, from_fixture, "fixture", src);

@@ -8,121 +8,19 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "hal/config/key_table.hpp"
+#include "hal/config/pose6.hpp"
+
 namespace orthosonar::run {
 namespace {
 
-// A table of (key -> how to read it, its valid range) per YAML map; anything else is an
-// unknown key. Every value is checked against its range before it reaches a stage, and an
-// error names the key (docs/CONFIG.md lists the ranges; `orthosonar config --ranges`).
-using Reader = std::function<Status(const YAML::Node&, const std::string& where)>;
-struct Entry;
-using Table = std::map<std::string, Entry>;
-struct Entry {
-  Reader read;
-  std::string range;                  // human-readable valid range ("" for a nested map)
-  std::string bad;                    // one out-of-range YAML value (tests)
-  std::function<Table()> children;    // nested map
-};
-
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
-// A real number in [lo, hi] (lo_open / hi_open exclude the bound); never NaN or infinite.
-Entry real(double& target, double lo, double hi, bool lo_open = false, bool hi_open = false) {
-  Entry e;
-  e.range = std::string(lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
-  e.bad = lo_open ? num(lo) : num(lo - 1.0);
-  e.read = [&target, lo, hi, lo_open, hi_open, range = e.range](const YAML::Node& n, const std::string& where) -> Status {
-    double v = 0.0;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      return Error{"config: '" + where + "' must be a number in " + range};
-    }
-    const bool above = lo_open ? v > lo : v >= lo;
-    const bool below = hi_open ? v < hi : v <= hi;
-    if (!std::isfinite(v) || !above || !below)
-      return Error{"config: '" + where + "' = " + num(v) + " is outside its valid range " + range};
-    target = v;
-    return {};
-  };
-  return e;
-}
-
-// An integer in [lo, hi] (stored in int or size_t); `odd` also requires an odd value.
-template <class T>
-Entry integer(T& target, int64_t lo, int64_t hi, bool odd = false) {
-  Entry e;
-  e.range = "integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]" + (odd ? ", odd" : "");
-  e.bad = std::to_string(lo - 1);
-  e.read = [&target, lo, hi, odd, range = e.range](const YAML::Node& n, const std::string& where) -> Status {
-    int64_t v = 0;
-    try {
-      v = n.as<int64_t>();
-    } catch (const YAML::Exception&) {
-      return Error{"config: '" + where + "' must be an " + range};
-    }
-    if (v < lo || v > hi || (odd && v % 2 == 0))
-      return Error{"config: '" + where + "' = " + std::to_string(v) + " is outside its valid range: " + range};
-    target = static_cast<T>(v);
-    return {};
-  };
-  return e;
-}
-
-Entry boolean(bool& target) {
-  Entry e;
-  e.range = "true or false";
-  e.bad = "maybe";
-  e.read = [&target](const YAML::Node& n, const std::string& where) -> Status {
-    try {
-      target = n.as<bool>();
-    } catch (const YAML::Exception&) {
-      return Error{"config: '" + where + "' must be true or false"};
-    }
-    return {};
-  };
-  return e;
-}
-
-Entry choice(std::string range, std::function<bool(const std::string&)> set) {
-  Entry e;
-  e.range = "one of: " + range;
-  e.bad = "none_of_these";
-  e.read = [set, range](const YAML::Node& n, const std::string& where) -> Status {
-    const auto text = n.IsScalar() ? n.Scalar() : std::string();
-    if (!set(text)) return Error{"config: '" + where + "' must be one of " + range};
-    return {};
-  };
-  return e;
-}
-
-// A pose "x y z roll pitch yaw": six finite numbers, |x|,|y|,|z| <= 100 m (a mount on the
-// vehicle), angles in [-2 pi, 2 pi].
-Entry pose(SE3& target) {
-  Entry e;
-  e.range = "\"x y z roll pitch yaw\": |x|,|y|,|z| <= 100 m, angles in [-6.2832, 6.2832] rad";
-  e.bad = "\"0 0 0 0 0\"";
-  e.read = [&target, range = e.range](const YAML::Node& n, const std::string& where) -> Status {
-    std::istringstream s(n.IsScalar() ? n.Scalar() : std::string());
-    double v[6];
-    for (double& x : v)
-      if (!(s >> x) || !std::isfinite(x)) return Error{"config: '" + where + "' must be " + range};
-    std::string rest;
-    if (s >> rest) return Error{"config: '" + where + "' has more than six numbers; must be " + range};
-    for (int i = 0; i < 3; ++i)
-      if (std::abs(v[i]) > 100.0) return Error{"config: '" + where + "' translation is outside " + range};
-    for (int i = 3; i < 6; ++i)
-      if (std::abs(v[i]) > 6.2832) return Error{"config: '" + where + "' angle is outside " + range};
-    target = se3_from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5]);
-    return {};
-  };
-  return e;
-}
+// The run configuration's key tables (hal/config/key_table.hpp, shared with the simulator's,
+// in this file's wording): every value is checked against its range before it reaches a
+// stage, and an error names the key (docs/CONFIG.md lists the ranges; `orthosonar config --ranges`).
+using config::Entry;
+using config::Parity;
+using config::Table;
+const config::KeyTables kKeys({.prefix = "config: ", .integer_range_colon = true, .pose_names_part = true});
 
 // A noise model "[sigma_x_m, sigma_y_m, sigma_theta_rad]", every entry in (0, 1000].
 Entry sigma(Eigen::Vector3d& target) {
@@ -130,15 +28,15 @@ Entry sigma(Eigen::Vector3d& target) {
   e.range = "[sigma_x_m, sigma_y_m, sigma_theta_rad], each in (0, 1000]";
   e.bad = "[0.1, 0, 0.01]";
   e.read = [&target, range = e.range](const YAML::Node& n, const std::string& where) -> Status {
-    if (!n.IsSequence() || n.size() != 3) return Error{"config: '" + where + "' must be " + range};
+    if (!n.IsSequence() || n.size() != 3) return kKeys.error("'" + where + "' must be " + range);
     Eigen::Vector3d v;
     try {
       for (int i = 0; i < 3; ++i) v[i] = n[static_cast<size_t>(i)].as<double>();
     } catch (const YAML::Exception&) {
-      return Error{"config: '" + where + "' must be " + range};
+      return kKeys.error("'" + where + "' must be " + range);
     }
     if (!v.allFinite() || !(v.array() > 0.0).all() || !(v.array() <= 1000.0).all())
-      return Error{"config: '" + where + "' entries must each be in (0, 1000]"};
+      return kKeys.error("'" + where + "' entries must each be in (0, 1000]");
     target = v;
     return {};
   };
@@ -151,50 +49,28 @@ Entry xy(Vec2& target) {
   e.range = "[x_m, y_m], each in [-1e7, 1e7]";
   e.bad = "[0, 1e9]";
   e.read = [&target, range = e.range](const YAML::Node& n, const std::string& where) -> Status {
-    if (!n.IsSequence() || n.size() != 2) return Error{"config: '" + where + "' must be " + range};
+    if (!n.IsSequence() || n.size() != 2) return kKeys.error("'" + where + "' must be " + range);
     Vec2 v;
     try {
       for (int i = 0; i < 2; ++i) v[i] = n[static_cast<size_t>(i)].as<double>();
     } catch (const YAML::Exception&) {
-      return Error{"config: '" + where + "' must be " + range};
+      return kKeys.error("'" + where + "' must be " + range);
     }
     if (!v.allFinite() || !(v.array().abs() <= 1e7).all())
-      return Error{"config: '" + where + "' entries must each be in [-1e7, 1e7]"};
+      return kKeys.error("'" + where + "' entries must each be in [-1e7, 1e7]");
     target = v;
     return {};
   };
   return e;
 }
 
-Status apply(const YAML::Node& node, const Table& table, const std::string& prefix) {
-  if (!node.IsMap()) return Error{"config: '" + (prefix.empty() ? std::string("<root>") : prefix) + "' must be a map"};
-  for (const auto& kv : node) {
-    if (!kv.first.IsScalar())
-      return Error{"config: a key in '" + (prefix.empty() ? std::string("<root>") : prefix) +
-                   "' is not a plain name (a sequence, a map or '?' with no key)"};
-    const std::string key = kv.first.as<std::string>();
-    const std::string where = prefix.empty() ? key : prefix + "." + key;
-    const auto it = table.find(key);
-    if (it == table.end()) return Error{"config: unknown key '" + where + "'"};
-    if (Status s = it->second.read(kv.second, where); !s.ok()) return s;
-  }
-  return {};
-}
-
-Entry nested(std::function<Table()> make) {
-  Entry e;
-  e.children = make;
-  e.read = [make](const YAML::Node& n, const std::string& where) { return apply(n, make(), where); };
-  return e;
-}
-
 Table cfar_table(perception::CfarConfig& c) {
-  return {{"train_cells", integer(c.train_cells, 1, 1000)},
-          {"guard_cells", integer(c.guard_cells, 0, 1000)},
-          {"pfa", real(c.pfa, 0.0, 1.0, true, true)},
-          {"gate", real(c.gate, 0.0, 255.0)},
-          {"min_neighbours", integer(c.min_neighbours, 0, 8)},
-          {"method", choice("soca, ca, goca",
+  return {{"train_cells", kKeys.integer(c.train_cells, 1, 1000)},
+          {"guard_cells", kKeys.integer(c.guard_cells, 0, 1000)},
+          {"pfa", kKeys.real(c.pfa, 0.0, 1.0, true, true)},
+          {"gate", kKeys.real(c.gate, 0.0, 255.0)},
+          {"min_neighbours", kKeys.integer(c.min_neighbours, 0, 8)},
+          {"method", kKeys.choice("soca, ca, goca",
                             [&c](const std::string& s) {
                               if (s == "soca") c.method = perception::CfarMethod::kSoca;
                               else if (s == "ca") c.method = perception::CfarMethod::kCa;
@@ -202,7 +78,7 @@ Table cfar_table(perception::CfarConfig& c) {
                               else return false;
                               return true;
                             })},
-          {"window", choice("cross, range", [&c](const std::string& s) {
+          {"window", kKeys.choice("cross, range", [&c](const std::string& s) {
              if (s == "cross") c.window = perception::CfarWindow::kCross;
              else if (s == "range") c.window = perception::CfarWindow::kRange;
              else return false;
@@ -215,61 +91,61 @@ Table root_table(RunConfig& c) {
   auto& d = c.pipeline.dr;
   auto& s = c.pipeline.slam;
   return {
-      {"threads", integer(c.threads, 1, kMaxThreads)},
-      {"fusion", nested([&f] {
-         return Table{{"max_pair_dt_s", real(f.max_pair_dt_s, 0.0, 10.0, true)},
-                      {"overlap_deg", real(f.overlap_deg, 0.0, 90.0, true)},
-                      {"patch", integer(f.patch, 1, 31, true)},
-                      {"min_confidence", real(f.min_confidence, 0.0, 1.0)},
-                      {"normalise_percentile", real(f.normalise_percentile, 0.0, 1.0, true)},
-                      {"rotate_v_patch", boolean(f.rotate_v_patch)},
-                      {"peak_window_deg", real(f.peak_window_deg, 0.0, 10.0)},
-                      {"noise_floor_factor", real(f.noise_floor_factor, 0.0, 100.0)},
-                      {"noise_floor_rows", integer(f.noise_floor_rows, 0, 1000)},
-                      {"T_V_h", pose(f.T_V_h)},
-                      {"T_V_v", pose(f.T_V_v)},
-                      {"cfar_h", nested([&f] { return cfar_table(f.cfar_h); })},
-                      {"cfar_v", nested([&f] { return cfar_table(f.cfar_v); })}};
+      {"threads", kKeys.integer(c.threads, 1, kMaxThreads)},
+      {"fusion", kKeys.nested([&f] {
+         return Table{{"max_pair_dt_s", kKeys.real(f.max_pair_dt_s, 0.0, 10.0, true)},
+                      {"overlap_deg", kKeys.real(f.overlap_deg, 0.0, 90.0, true)},
+                      {"patch", kKeys.integer(f.patch, 1, 31, Parity::kOdd)},
+                      {"min_confidence", kKeys.real(f.min_confidence, 0.0, 1.0)},
+                      {"normalise_percentile", kKeys.real(f.normalise_percentile, 0.0, 1.0, true)},
+                      {"rotate_v_patch", kKeys.boolean(f.rotate_v_patch)},
+                      {"peak_window_deg", kKeys.real(f.peak_window_deg, 0.0, 10.0)},
+                      {"noise_floor_factor", kKeys.real(f.noise_floor_factor, 0.0, 100.0)},
+                      {"noise_floor_rows", kKeys.integer(f.noise_floor_rows, 0, 1000)},
+                      {"T_V_h", kKeys.pose(f.T_V_h)},
+                      {"T_V_v", kKeys.pose(f.T_V_v)},
+                      {"cfar_h", kKeys.nested([&f] { return cfar_table(f.cfar_h); })},
+                      {"cfar_v", kKeys.nested([&f] { return cfar_table(f.cfar_v); })}};
        })},
-      {"dr", nested([&d] {
+      {"dr", kKeys.nested([&d] {
          return Table{{"initial_xy_m", xy(d.initial_xy_m)},
-                      {"max_speed_mps", real(d.max_speed_mps, 0.0, 100.0, true)},
-                      {"hold_s", real(d.hold_s, 0.0, 3600.0)},
-                      {"attitude_filter_tau_s", real(d.attitude_filter_tau_s, 0.0, 3600.0)},
-                      {"attitude_filter_max_gap_s", real(d.attitude_filter_max_gap_s, 0.0, 3600.0, true)}};
+                      {"max_speed_mps", kKeys.real(d.max_speed_mps, 0.0, 100.0, true)},
+                      {"hold_s", kKeys.real(d.hold_s, 0.0, 3600.0)},
+                      {"attitude_filter_tau_s", kKeys.real(d.attitude_filter_tau_s, 0.0, 3600.0)},
+                      {"attitude_filter_max_gap_s", kKeys.real(d.attitude_filter_max_gap_s, 0.0, 3600.0, true)}};
        })},
-      {"slam", nested([&s] {
-         return Table{{"kf_distance_m", real(s.kf_distance_m, 0.0, 1000.0, true)},
-                      {"kf_rotation_deg", real(s.kf_rotation_deg, 0.0, 360.0, true)},
-                      {"voxel_m", real(s.voxel_m, 0.01, 100.0)},
-                      {"outlier_radius_m", real(s.outlier_radius_m, 0.0, 100.0, true)},
-                      {"outlier_min_neighbours", integer(s.outlier_min_neighbours, 0, 10000)},
-                      {"ssm_target_frames", integer(s.ssm_target_frames, 1, 1000)},
-                      {"ssm_min_points", integer(s.ssm_min_points, 1, 10000000)},
-                      {"ssm_max_translation_m", real(s.ssm_max_translation_m, 0.0, 1000.0, true)},
-                      {"ssm_max_rotation_deg", real(s.ssm_max_rotation_deg, 0.0, 180.0, true)},
-                      {"ssm_keep_dr_factor", boolean(s.ssm_keep_dr_factor)},
-                      {"ssm_max_mahalanobis", real(s.ssm_max_mahalanobis, 0.0, 1e6)},
-                      {"nssm_min_separation", integer(s.nssm_min_separation, 1, 1000000)},
-                      {"nssm_min_travel_m", real(s.nssm_min_travel_m, 0.0, 1e6)},
-                      {"nssm_range_m", real(s.nssm_range_m, 0.0, 1000.0, true)},
-                      {"nssm_min_points", integer(s.nssm_min_points, 1, 10000000)},
-                      {"nssm_max_rmse_m", real(s.nssm_max_rmse_m, 0.0, 100.0, true)},
-                      {"pcm_queue", integer(s.pcm_queue, 1, 1000)},
-                      {"pcm_threshold", real(s.pcm_threshold, 0.0, 1e6, true)},
-                      {"min_pcm", integer(s.min_pcm, 0, 1000)},
+      {"slam", kKeys.nested([&s] {
+         return Table{{"kf_distance_m", kKeys.real(s.kf_distance_m, 0.0, 1000.0, true)},
+                      {"kf_rotation_deg", kKeys.real(s.kf_rotation_deg, 0.0, 360.0, true)},
+                      {"voxel_m", kKeys.real(s.voxel_m, 0.01, 100.0)},
+                      {"outlier_radius_m", kKeys.real(s.outlier_radius_m, 0.0, 100.0, true)},
+                      {"outlier_min_neighbours", kKeys.integer(s.outlier_min_neighbours, 0, 10000)},
+                      {"ssm_target_frames", kKeys.integer(s.ssm_target_frames, 1, 1000)},
+                      {"ssm_min_points", kKeys.integer(s.ssm_min_points, 1, 10000000)},
+                      {"ssm_max_translation_m", kKeys.real(s.ssm_max_translation_m, 0.0, 1000.0, true)},
+                      {"ssm_max_rotation_deg", kKeys.real(s.ssm_max_rotation_deg, 0.0, 180.0, true)},
+                      {"ssm_keep_dr_factor", kKeys.boolean(s.ssm_keep_dr_factor)},
+                      {"ssm_max_mahalanobis", kKeys.real(s.ssm_max_mahalanobis, 0.0, 1e6)},
+                      {"nssm_min_separation", kKeys.integer(s.nssm_min_separation, 1, 1000000)},
+                      {"nssm_min_travel_m", kKeys.real(s.nssm_min_travel_m, 0.0, 1e6)},
+                      {"nssm_range_m", kKeys.real(s.nssm_range_m, 0.0, 1000.0, true)},
+                      {"nssm_min_points", kKeys.integer(s.nssm_min_points, 1, 10000000)},
+                      {"nssm_max_rmse_m", kKeys.real(s.nssm_max_rmse_m, 0.0, 100.0, true)},
+                      {"pcm_queue", kKeys.integer(s.pcm_queue, 1, 1000)},
+                      {"pcm_threshold", kKeys.real(s.pcm_threshold, 0.0, 1e6, true)},
+                      {"min_pcm", kKeys.integer(s.min_pcm, 0, 1000)},
                       {"sigma_prior", sigma(s.sigma_prior)},
                       {"sigma_odometry", sigma(s.sigma_odometry)},
                       {"sigma_icp", sigma(s.sigma_icp)},
                       {"sigma_loop", sigma(s.sigma_loop)},
-                      {"degeneracy_ratio", real(s.degeneracy_ratio, 0.0, 1.0)},
-                      {"nssm_max_mahalanobis", real(s.nssm_max_mahalanobis, 0.0, 1e12)},
-                      {"heading_drift_sigma_dps", real(s.heading_drift_sigma_dps, 0.0, 10.0)},
-                      {"heading_drift_every_keyframes", integer(s.heading_drift_every_keyframes, 0, 1000000)},
-                      {"heading_link_s", real(s.heading_link_s, 0.0, 1e6)},
-                      {"heading_link_walk_dps", real(s.heading_link_walk_dps, 0.0, 10.0, true)},
-                      {"heading_link_white_deg", real(s.heading_link_white_deg, 0.0, 10.0)},
-                      {"loop_loss", choice("none, huber, cauchy",
+                      {"degeneracy_ratio", kKeys.real(s.degeneracy_ratio, 0.0, 1.0)},
+                      {"nssm_max_mahalanobis", kKeys.real(s.nssm_max_mahalanobis, 0.0, 1e12)},
+                      {"heading_drift_sigma_dps", kKeys.real(s.heading_drift_sigma_dps, 0.0, 10.0)},
+                      {"heading_drift_every_keyframes", kKeys.integer(s.heading_drift_every_keyframes, 0, 1000000)},
+                      {"heading_link_s", kKeys.real(s.heading_link_s, 0.0, 1e6)},
+                      {"heading_link_walk_dps", kKeys.real(s.heading_link_walk_dps, 0.0, 10.0, true)},
+                      {"heading_link_white_deg", kKeys.real(s.heading_link_white_deg, 0.0, 10.0)},
+                      {"loop_loss", kKeys.choice("none, huber, cauchy",
                                            [&s](const std::string& v) {
                                              for (slam::GraphEdge::Loss l : slam::kLosses)
                                                if (v == slam::loss_name(l)) {
@@ -278,40 +154,32 @@ Table root_table(RunConfig& c) {
                                                }
                                              return false;
                                            })},
-                      {"loop_loss_scale", real(s.loop_loss_scale, 0.0, 1000.0, true)},
-                      {"solver", nested([&s] {
+                      {"loop_loss_scale", kKeys.real(s.loop_loss_scale, 0.0, 1000.0, true)},
+                      {"solver", kKeys.nested([&s] {
                          auto& g = s.solver;
-                         return Table{{"max_iterations", integer(g.max_iterations, 1, 10000)},
-                                      {"function_tolerance", real(g.function_tolerance, 0.0, 1.0)},
-                                      {"initial_trust_region_radius", real(g.initial_trust_region_radius, 0.0, 1e16, true)},
-                                      {"model_agreement_stop", real(g.model_agreement_stop, 0.0, 1.0)}};
+                         return Table{{"max_iterations", kKeys.integer(g.max_iterations, 1, 10000)},
+                                      {"function_tolerance", kKeys.real(g.function_tolerance, 0.0, 1.0)},
+                                      {"initial_trust_region_radius", kKeys.real(g.initial_trust_region_radius, 0.0, 1e16, true)},
+                                      {"model_agreement_stop", kKeys.real(g.model_agreement_stop, 0.0, 1.0)}};
                        })},
-                      {"fit_information", nested([&s] {
+                      {"fit_information", kKeys.nested([&s] {
                          auto& f = s.fit_information;
-                         return Table{{"max_correspondence_m", real(f.max_correspondence_m, 0.0, 100.0, true)},
-                                      {"normal_radius_m", real(f.normal_radius_m, 0.0, 100.0, true)},
-                                      {"line_ratio", real(f.line_ratio, 0.0, 1.0)}};
+                         return Table{{"max_correspondence_m", kKeys.real(f.max_correspondence_m, 0.0, 100.0, true)},
+                                      {"normal_radius_m", kKeys.real(f.normal_radius_m, 0.0, 100.0, true)},
+                                      {"line_ratio", kKeys.real(f.line_ratio, 0.0, 1.0)}};
                        })},
-                      {"icp", nested([&s] {
-                         return Table{{"max_iterations", integer(s.icp.max_iterations, 1, 10000)},
-                                      {"max_correspondence_m", real(s.icp.max_correspondence_m, 0.0, 1000.0, true)},
-                                      {"trim_fraction", real(s.icp.trim_fraction, 0.0, 1.0, true)}};
+                      {"icp", kKeys.nested([&s] {
+                         return Table{{"max_iterations", kKeys.integer(s.icp.max_iterations, 1, 10000)},
+                                      {"max_correspondence_m", kKeys.real(s.icp.max_correspondence_m, 0.0, 1000.0, true)},
+                                      {"trim_fraction", kKeys.real(s.icp.trim_fraction, 0.0, 1.0, true)}};
                        })}};
        })},
-      {"mapping", nested([&c] {
-         return Table{{"fusion_batch_pairs", integer(c.pipeline.fusion_batch_pairs, 1, 4096)},
-                      {"voxel_m", real(c.voxel_m, 0.01, 100.0)},
-                      {"octomap_resolution_m", real(c.octomap_resolution_m, 0.01, 100.0)}};
+      {"mapping", kKeys.nested([&c] {
+         return Table{{"fusion_batch_pairs", kKeys.integer(c.pipeline.fusion_batch_pairs, 1, 4096)},
+                      {"voxel_m", kKeys.real(c.voxel_m, 0.01, 100.0)},
+                      {"octomap_resolution_m", kKeys.real(c.octomap_resolution_m, 0.01, 100.0)}};
        })},
   };
-}
-
-void list_ranges(const Table& t, const std::string& prefix, std::vector<ConfigKeyRange>& out) {
-  for (const auto& [key, e] : t) {
-    const std::string where = prefix.empty() ? key : prefix + "." + key;
-    if (e.children) list_ranges(e.children(), where, out);
-    else out.push_back({where, e.range, e.bad});
-  }
 }
 
 nlohmann::json cfar_json(const perception::CfarConfig& c) {
@@ -322,14 +190,7 @@ nlohmann::json cfar_json(const perception::CfarConfig& c) {
 
 }  // namespace
 
-std::string pose6_string(const SE3& T) {
-  const Vec3 rpy = rpy_from_rotation(T.linear());
-  std::ostringstream s;
-  s.precision(17);
-  s << T.translation().x() << " " << T.translation().y() << " " << T.translation().z() << " " << rpy.x()
-    << " " << rpy.y() << " " << rpy.z();
-  return s.str();
-}
+std::string pose6_string(const SE3& T) { return config::format_pose6(T); }
 
 Status apply_config_yaml(const std::string& yaml_text, RunConfig& config) {
   YAML::Node root;
@@ -341,7 +202,7 @@ Status apply_config_yaml(const std::string& yaml_text, RunConfig& config) {
   if (root.IsNull()) return {};
   RunConfig trial = config;
   try {
-    if (Status s = apply(root, root_table(trial), ""); !s.ok()) return s;
+    if (Status s = kKeys.apply(root, root_table(trial), ""); !s.ok()) return s;
   } catch (const YAML::Exception& e) {
     // Every reader checks its node's type first; this is the net under them, so a document
     // no reader foresaw is an error, never an exception through the API.
@@ -371,7 +232,7 @@ Status load_config_file(const std::string& path, RunConfig& config) {
 std::vector<ConfigKeyRange> config_key_ranges() {
   RunConfig scratch;
   std::vector<ConfigKeyRange> out;
-  list_ranges(root_table(scratch), "", out);
+  for (auto& k : config::KeyTables::ranges(root_table(scratch))) out.push_back({k.key, k.range, k.bad_value});
   return out;
 }
 
