@@ -1,7 +1,7 @@
 #pragma once
-// Child processes for the tools (batch engines, golden tasks, Slurm clients): spawn with
-// stdout and stderr appended to a log file or captured, and wait. Tools only; the core and
-// the run library start no processes.
+// Child processes of the batch engines (tasks, golden checks, Slurm's clients): spawn with
+// stdout and stderr appended to a log file or captured, and wait. The batch library is the
+// only library that starts processes; the core and the run library start none.
 #include <sys/types.h>
 
 #include <string>
@@ -9,7 +9,7 @@
 
 #include "core/result.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::batch {
 
 // The running executable's absolute path (/proc/self/exe).
 std::string self_executable();
@@ -33,4 +33,4 @@ Result<Captured> run_captured(const std::vector<std::string>& argv);
 // Shell-quotes one word for a generated script ('...' with embedded quotes escaped).
 std::string shell_quote(const std::string& word);
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::batch

@@ -1,4 +1,5 @@
-#include "tools/support_process.hpp"
+// Child processes of the batch engines (see process.hpp).
+#include "replay/batch/process.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -13,7 +14,7 @@
 
 extern char** environ;
 
-namespace orthosonar::cli {
+namespace orthosonar::batch {
 namespace {
 
 std::vector<char*> c_argv(const std::vector<std::string>& argv) {
@@ -103,4 +104,4 @@ std::string shell_quote(const std::string& word) {
   return out + "'";
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::batch

@@ -8,7 +8,7 @@
 #include "replay/run/run.hpp"
 #include "replay/run/sweep.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::batch {
 
 // The reference cell of the sweep grid.
 inline constexpr run::GridCell kReferenceCell{3.0, 30.0};
@@ -22,4 +22,4 @@ Status write_reference_outputs(const std::string& fixture, const run::RunOptions
 // renders (said on stderr). Prints the report's path on stderr.
 Status write_sweep_report(const std::string& sweep_dir, const std::string& title);
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::batch

@@ -1,11 +1,12 @@
-#include "tools/support_sweep_report.hpp"
+// A sweep's reference-cell outputs and HTML report (see sweep_outputs.hpp).
+#include "replay/batch/sweep_outputs.hpp"
 
 #include <filesystem>
 #include <iostream>
 
 #include "reports/report.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::batch {
 
 Status write_reference_outputs(const std::string& fixture, const run::RunOptions& options, int threads,
                                const std::string& out_dir) {
@@ -35,4 +36,4 @@ Status write_sweep_report(const std::string& sweep_dir, const std::string& title
   return {};
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::batch
