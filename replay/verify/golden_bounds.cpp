@@ -1,4 +1,5 @@
-#include "tools/support_golden_bounds.hpp"
+// Absolute bounds of golden scenarios: golden/bounds.yaml read and checked (see golden_bounds.hpp).
+#include "replay/verify/golden_bounds.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -7,7 +8,7 @@
 #include <filesystem>
 #include <set>
 
-namespace orthosonar::cli {
+namespace orthosonar::verify {
 namespace {
 
 // Every key of `n` must be one of `known`; names the first stranger with its place.
@@ -164,4 +165,4 @@ GoldenBoundsVerdict check_golden_bounds(const GoldenScenarioBounds& bounds, cons
   return v;
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::verify

@@ -12,7 +12,7 @@
 
 #include "core/result.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::verify {
 
 // Default `tolerances.image_difference` of a scenario: the largest reports::image_difference
 // score (mean absolute grayscale difference at 160x120, in [0, 1]) accepted between the
@@ -24,10 +24,6 @@ namespace orthosonar::cli {
 // smallest real change and the stability bound of reports/render_test.cpp; renderer jitter
 // passes up to the size of ~180 of the 172800 pixels turned white (200 score 0.00053-0.00056).
 inline constexpr double kDefaultImageDifference = 0.0005;
-
-// golden/scenarios/*.yaml relative to the working directory (the repository root), sorted;
-// empty when there are none. `golden --check` and `batch plan golden` default to these.
-std::vector<std::string> default_golden_scenarios();
 
 struct GoldenImageConfig {
   // Rendered at render_*_px, then area-downscaled to the stored *_px. The legend, colour
@@ -56,4 +52,4 @@ std::string golden_image_name(const std::string& system);
 Result<cv::Mat> read_png(const std::string& path);
 Status write_png(const std::string& path, const cv::Mat& image);
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::verify

@@ -16,7 +16,7 @@
 
 #include "core/result.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::verify {
 
 struct GoldenSystemBounds {
   std::optional<double> mae_max_m, rmse_max_m;
@@ -48,4 +48,4 @@ struct GoldenBoundsVerdict {
 GoldenBoundsVerdict check_golden_bounds(const GoldenScenarioBounds& bounds, const std::map<std::string, double>& metrics,
                                         const std::vector<std::string>& systems);
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::verify

@@ -1,6 +1,6 @@
-#include "tools/support_golden_images.hpp"
+// Rendered top views of golden scenarios and their PNG files (see golden_images.hpp).
+#include "replay/verify/golden_images.hpp"
 
-#include <algorithm>
 #include <filesystem>
 
 #include <opencv2/imgproc.hpp>
@@ -11,7 +11,7 @@
 #include "reports/render.hpp"
 #include "reports/run_data.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::verify {
 
 std::string golden_image_name(const std::string& system) { return system + "_top.png"; }
 
@@ -59,13 +59,4 @@ Status write_png(const std::string& path, const cv::Mat& image) {
   return codec::write_png(path, image);
 }
 
-std::vector<std::string> default_golden_scenarios() {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator("golden/scenarios", ec))
-    if (e.path().extension() == ".yaml") out.push_back(e.path().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::verify
