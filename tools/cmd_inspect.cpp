@@ -1,6 +1,6 @@
 // `orthosonar inspect f.mcap [--json]`: what a fixture holds. Files that are not MCAP
 // (no MCAP magic) are handed to the raw Oculus capture inspector; `--protocol P` decodes a
-// raw capture of any device protocol (tools/support_inspect_protocol.hpp).
+// raw capture of any device protocol (hal/drivers/protocol_capture.hpp).
 // Exit codes: 0 a complete fixture, 1 a truncated fixture (readable prefix reported),
 // 2 unreadable or malformed input.
 #include <cstdio>
@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "replay/fixture_summary.hpp"
+#include "hal/drivers/oculus_capture.hpp"
+#include "hal/drivers/protocol_capture.hpp"
+#include "replay/fixture/fixture_summary.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_inspect_oculus.hpp"
-#include "tools/support_inspect_protocol.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -115,12 +115,12 @@ void print_text(const replay::FixtureSummary& s, const InspectOptions& o) {
 }
 
 int run_inspect(const InspectOptions& o) {
-  if (!o.protocol.empty()) return inspect_protocol_capture(o.path, o.protocol, o.json, o.csv);
+  if (!o.protocol.empty()) return hal::drivers::inspect_protocol_capture(o.path, o.protocol, o.json, o.csv, std::cout, std::cerr);
   if (!o.csv.empty()) {
     std::cerr << "orthosonar inspect: --csv needs --protocol\n";
     return 2;
   }
-  if (!replay::has_mcap_magic(o.path)) return inspect_oculus_capture(o.path, o.json);
+  if (!replay::has_mcap_magic(o.path)) return hal::drivers::oculus::inspect_oculus_capture(o.path, o.json, std::cout, std::cerr);
   auto s = replay::summarize_fixture(o.path);
   if (!s) {
     std::cerr << "orthosonar inspect: " << s.error().message << "\n";

@@ -5,19 +5,18 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <numbers>
 #include <optional>
 #include <sstream>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "hal/sim/simulator.hpp"
 #include "hal/codec/image_codec.hpp"
 #include "hal/sim/sonar_fan.hpp"
-#include "replay/fixture.hpp"
+#include "hal/sim/sonar_snapshot.hpp"
+#include "replay/run/simulate.hpp"
 #include "tools/cli.hpp"
-#include "tools/support_oculus_ping_file.hpp"
+#include "hal/drivers/oculus_ping_file.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -97,39 +96,16 @@ int run_simulate(const SimulateArgs& a) {
     double x = 0, y = 0, yaw_deg = 0;
     if (!(in >> x >> y >> yaw_deg)) return simulate_fail("--snapshot-pose expects 'x y yaw_deg'");
     if (a.snapshot_dir.empty()) return simulate_fail("--snapshot-pose needs --snapshot-dir");
-    sim::SonarModelConfig sonar = cfg.sonar;
-    sonar.seafloor_depth_m = scene->seafloor_depth_m;
-    const SE3 T_W_V = se3_from_xyz_rpy(x, y, -scene->vehicle_depth_m, 0, 0, yaw_deg * std::numbers::pi / 180.0);
+    const SE3 T_W_V = sim::snapshot_vehicle_pose(*scene, x, y, yaw_deg);
     std::filesystem::create_directories(a.snapshot_dir);
     if (a.compare_profiles) {
       // docs/images/<scene>_profiles.jpg: clean | field, horizontal above vertical.
-      std::vector<cv::Mat> rows;
-      for (auto mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
-        const bool h = mount == SonarMount::kHorizontal;
-        std::vector<cv::Mat> cells;
-        for (auto profile : {sim::SonarProfile::kClean, sim::SonarProfile::kField}) {
-          sim::SonarModelConfig c = sonar;
-          sim::apply_profile(c, profile);
-          const sim::SonarRenderer r(scene->mesh, c, cfg.resolution, cfg.seed);
-          cv::Mat fan = sim::fan_image(r.render(T_W_V * (h ? cfg.T_V_h : cfg.T_V_v), mount, Time::from_s(0), 0).ping, 800);
-          cv::cvtColor(fan, fan, cv::COLOR_GRAY2BGR);
-          const std::string label = std::string(sim::profile_name(profile)) + (h ? ": M750d, horizontal" : ": M1200d, vertical");
-          cv::putText(fan, label, {12, 30}, cv::FONT_HERSHEY_SIMPLEX, h ? 0.8 : 0.6, {80, 200, 255}, 2);
-          cells.push_back(fan);
-        }
-        cv::Mat row;
-        cv::hconcat(cells, row);
-        rows.push_back(row);
-      }
-      const int w = std::max(rows[0].cols, rows[1].cols);
-      for (cv::Mat& r : rows) cv::copyMakeBorder(r, r, 0, 0, 0, w - r.cols, cv::BORDER_CONSTANT, {24, 24, 24});
-      cv::Mat all;
-      cv::vconcat(rows, all);
+      const cv::Mat all = sim::profile_comparison_image(*scene, cfg, T_W_V);
       const auto path = (std::filesystem::path(a.snapshot_dir) / (scene->name + "_profiles.jpg")).string();
       if (Status s = codec::write_jpeg(path, all, 85); !s) return simulate_fail(s.error().message);
       if (!a.quiet) std::printf("wrote %s\n", path.c_str());
       if (!a.real_ping.empty()) {
-        auto f = read_oculus_ping_file(a.real_ping, "--real-ping");
+        auto f = hal::drivers::oculus::read_oculus_ping_file(a.real_ping, "--real-ping");
         if (!f) return simulate_fail(f.error().message);
         const auto real_path = (std::filesystem::path(a.snapshot_dir) / "oculus_m1200d_real.png").string();
         if (Status s = sim::write_fan_png(f->ping, real_path, 560, true); !s) return simulate_fail(s.error().message);
@@ -137,68 +113,22 @@ int run_simulate(const SimulateArgs& a) {
       }
       return 0;
     }
-    const sim::SonarRenderer renderer(scene->mesh, sonar, cfg.resolution, cfg.seed);
-    for (auto mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
-      const bool h = mount == SonarMount::kHorizontal;
-      const auto r = renderer.render(T_W_V * (h ? cfg.T_V_h : cfg.T_V_v), mount, Time::from_s(0), 0);
-      const auto path = (std::filesystem::path(a.snapshot_dir) / (scene->name + (h ? "_horizontal.png" : "_vertical.png"))).string();
-      if (Status s = sim::write_fan_png(r.ping, path, 800); !s) return simulate_fail(s.error().message);
-      if (!a.quiet) std::printf("wrote %s\n", path.c_str());
-    }
+    auto written = sim::write_pose_snapshots(*scene, cfg, T_W_V, a.snapshot_dir);
+    if (!written) return simulate_fail(written.error().message);
+    if (!a.quiet)
+      for (const auto& path : *written) std::printf("wrote %s\n", path.c_str());
     return 0;
   }
   sim::Simulator simulator(std::move(*scene), cfg);
-  std::unique_ptr<replay::FixtureWriter> writer;
-  // Written as <out>.partial and renamed when complete, so a reader never sees a fixture
-  // that is still being written (or the half of one an interrupted run left).
-  const std::string partial = a.out + ".partial";
-  if (!a.out.empty()) {
-    replay::WriterOptions wo;
-    wo.zstd_level = a.zstd_level;
-    auto w = replay::FixtureWriter::open(partial, simulator.metadata(), wo);
-    if (!w) return simulate_fail(w.error().message);
-    writer = std::move(*w);
-    // The scene goes into the fixture (mesh, route, classes): replay needs no scene file.
-    auto files = sim::embed_scene(simulator.scene());
-    if (!files) return simulate_fail(files.error().message);
-    for (auto& f : *files)
-      if (Status s = writer->attach({f.name, f.media_type, std::move(f.data)}); !s) return simulate_fail(s.error().message);
-  }
-  std::vector<double> snaps = a.snapshot_at_s;
-  std::sort(snaps.begin(), snaps.end());
-  std::array<size_t, 2> next_snap{0, 0};
-  std::array<uint64_t, kChannelCount> counts{};
-  uint64_t events = 0;
-  while (true) {
-    hal::Pulled p = simulator.next();
-    if (p.error) return simulate_fail(p.error->message);
-    if (p.end_of_stream) break;
-    const Event& e = *p.event;
-    ++counts[static_cast<size_t>(e.channel)];
-    ++events;
-    if (!a.snapshot_dir.empty() && (e.channel == Channel::kSonarHorizontal || e.channel == Channel::kSonarVertical)) {
-      const auto& ping = std::get<SonarPing>(e.payload);
-      const size_t m = static_cast<size_t>(ping.mount);
-      if (next_snap[m] < snaps.size() && e.stamp.seconds() >= snaps[next_snap[m]]) {
-        char name[96];
-        std::snprintf(name, sizeof name, "%s_%s_%07.1fs.png", simulator.scene().name.c_str(),
-                      m == 0 ? "horizontal" : "vertical", snaps[next_snap[m]]);
-        std::filesystem::create_directories(a.snapshot_dir);
-        const auto path = (std::filesystem::path(a.snapshot_dir) / name).string();
-        if (Status s = sim::write_fan_png(ping, path, 800); !s) return simulate_fail(s.error().message);
-        ++next_snap[m];
-      }
-    }
-    if (writer) {
-      if (Status s = writer->write(e); !s) return simulate_fail(s.error().message);
-    }
-  }
-  if (writer) {
-    if (Status s = writer->close(); !s) return simulate_fail(s.error().message);
-    std::error_code ec;
-    std::filesystem::rename(partial, a.out, ec);
-    if (ec) return simulate_fail("cannot rename '" + partial + "' to '" + a.out + "': " + ec.message());
-  }
+  run::SimulateOptions so;
+  so.out = a.out;
+  so.zstd_level = a.zstd_level;
+  so.snapshot_dir = a.snapshot_dir;
+  so.snapshot_at_s = a.snapshot_at_s;
+  auto simulated = run::simulate_to_fixture(simulator, so);
+  if (!simulated) return simulate_fail(simulated.error().message);
+  const auto& counts = simulated->per_channel;
+  const uint64_t events = simulated->events;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!a.quiet) {
     std::printf("simulated %s: %.1f s, seed %llu, %s, pings h/v %llu/%llu, imu %llu, dvl %llu, depth %llu, truth %llu, "

@@ -116,6 +116,29 @@ std::optional<SE3> truth_pose_at(const std::vector<TruthPose>& truth, Time t) {
   return interpolate(truth_pose(*br->a), truth_pose(*br->b), br->s);
 }
 
+void TruthTrack::add(const TruthPose& p) {
+  const auto it = std::lower_bound(poses_.begin(), poses_.end(), p.stamp,
+                                   [](const TruthPose& q, Time s) { return q.stamp < s; });
+  if (it != poses_.end() && it->stamp == p.stamp) {
+    *it = p;
+  } else {
+    poses_.insert(it, p);
+  }
+}
+
+std::optional<SE3> TruthTrack::at(Time t) const {
+  if (poses_.empty()) return std::nullopt;
+  if (t <= poses_.front().stamp) return truth_pose(poses_.front());
+  if (t >= poses_.back().stamp) return truth_pose(poses_.back());
+  return truth_pose_at(poses_, t);
+}
+
+void TruthTrack::forget_before(Time t) {
+  const auto after = std::upper_bound(poses_.begin(), poses_.end(), t,
+                                      [](Time s, const TruthPose& q) { return s < q.stamp; });
+  if (after - poses_.begin() > 1) poses_.erase(poses_.begin(), after - 1);
+}
+
 std::optional<double> absolute_trajectory_error(const std::vector<StampedPosition>& estimate,
                                                 const std::vector<TruthPose>& truth) {
   double sum_sq = 0.0;

@@ -3,6 +3,7 @@
 // point-to-triangle distance from every voxel centroid to the ground-truth mesh, and the
 // absolute trajectory error of keyframe positions.
 #include <cstdint>
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -47,6 +48,27 @@ std::optional<Vec3> truth_position_at(const std::vector<TruthPose>& truth, Time 
 // Ground truth T_W_V at `t`: position as truth_position_at, orientation slerped between
 // the neighbouring truth poses; nullopt outside their span.
 std::optional<SE3> truth_pose_at(const std::vector<TruthPose>& truth, Time t);
+// Truth poses as they arrive in a stream (stamp order; a pose of an earlier stamp is
+// inserted in place, one of a stamp already held replaces it), kept only as far back as a
+// later question needs: truth_pose_at over a sliding window, for a consumer that cannot
+// hold a whole mission's truth (perception_metrics.hpp).
+class TruthTrack {
+ public:
+  void add(const TruthPose& p);
+  // truth_pose_at(t) over the poses held, and at either end of them the nearest pose
+  // (held, not extrapolated); nullopt when none is held.
+  std::optional<SE3> at(Time t) const;
+  // Forgets every pose but the last one at or before t (and those after it): at() stays
+  // the same for every stamp >= t.
+  void forget_before(Time t);
+  bool empty() const { return poses_.empty(); }
+  // Stamp of the latest pose held (empty(): undefined).
+  Time last_stamp() const { return poses_.back().stamp; }
+  size_t size() const { return poses_.size(); }
+
+ private:
+  std::vector<TruthPose> poses_;  // sorted by stamp, unique stamps
+};
 // RMSE of estimate positions against truth interpolated at their stamps. Estimates outside
 // the truth span are skipped; nullopt when none remain.
 std::optional<double> absolute_trajectory_error(const std::vector<StampedPosition>& estimate,

@@ -8,14 +8,14 @@
 #include "hal/drivers/oculus_protocol.hpp"
 #include "hal/drivers/oculus_stream.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::hal::drivers::oculus {
 
 struct OculusPingFile {
-  hal::drivers::oculus::PingResult raw;
+  PingResult raw;
   SonarPing ping;  // mounted as the vertical sonar (the M1200d's place)
 };
 
 // Errors name the option (e.g. "--real-ping") and the path.
 Result<OculusPingFile> read_oculus_ping_file(const std::string& path, const std::string& option);
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::hal::drivers::oculus

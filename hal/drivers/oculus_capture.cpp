@@ -1,4 +1,5 @@
-#include "tools/support_inspect_oculus.hpp"
+// Raw Oculus captures (TCP 52100 bytes as a logger saved them) described ping by ping.
+#include "hal/drivers/oculus_capture.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -10,13 +11,11 @@
 
 #include "hal/drivers/oculus_stream.hpp"
 
-namespace orthosonar::cli {
-
-using namespace hal::drivers::oculus;
+namespace orthosonar::hal::drivers::oculus {
 
 namespace {
 
-nlohmann::json ping_json(const PingResult& p) {
+nlohmann::json capture_ping_json(const PingResult& p) {
   const double b0 = p.bearings_centideg.empty() ? 0.0 : p.bearings_centideg.front() / 100.0;
   const double b1 = p.bearings_centideg.empty() ? 0.0 : p.bearings_centideg.back() / 100.0;
   return {{"ping_id", p.ping_id},         {"src_device_id", p.header.src_device_id},
@@ -34,10 +33,10 @@ nlohmann::json ping_json(const PingResult& p) {
 
 }  // namespace
 
-int inspect_oculus_capture(const std::string& path, bool json) {
+int inspect_oculus_capture(const std::string& path, bool json, std::ostream& out, std::ostream& err) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    std::cerr << "orthosonar inspect: cannot open '" << path << "'\n";
+    err << "orthosonar inspect: cannot open '" << path << "'\n";
     return 2;
   }
   StreamParser parser;
@@ -48,7 +47,7 @@ int inspect_oculus_capture(const std::string& path, bool json) {
     while (auto m = parser.pop()) {
       if (const auto* p = std::get_if<PingResult>(&*m)) {
         if (json) {
-          pings.push_back(ping_json(*p));
+          pings.push_back(capture_ping_json(*p));
           continue;
         }
         char line[320];
@@ -62,7 +61,7 @@ int inspect_oculus_capture(const std::string& path, bool json) {
                       p->bearings_centideg.empty() ? 0.0 : p->bearings_centideg.front() / 100.0,
                       p->bearings_centideg.empty() ? 0.0 : p->bearings_centideg.back() / 100.0, p->image_offset,
                       p->image_size, p->message_size);
-        std::cout << line << "\n";
+        out << line << "\n";
         pings.push_back(p->ping_id);
       } else if (std::holds_alternative<StatusMessage>(*m)) {
         ++status_messages;
@@ -89,18 +88,18 @@ int inspect_oculus_capture(const std::string& path, bool json) {
                           {"malformed", st.malformed},
                           {"garbage_bytes", st.garbage_bytes},
                           {"trailing_bytes", trailing}};
-    std::cout << doc.dump(2) << "\n";
+    out << doc.dump(2) << "\n";
   } else {
-    std::cout << path << ": " << pings.size() << " ping(s), " << status_messages << " status, " << other_messages
+    out << path << ": " << pings.size() << " ping(s), " << status_messages << " status, " << other_messages
               << " other message(s), " << st.malformed << " malformed, " << st.garbage_bytes << " garbage byte(s), "
               << trailing << " trailing byte(s)\n";
   }
   if (pings.empty()) {
-    std::cerr << "orthosonar inspect: '" << path << "' holds no Oculus ping (not an MCAP file either)"
+    err << "orthosonar inspect: '" << path << "' holds no Oculus ping (not an MCAP file either)"
               << (st.malformed ? "; last error: " + parser.last_error() : std::string()) << "\n";
     return 2;
   }
   return 0;
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::hal::drivers::oculus

@@ -1,4 +1,4 @@
-#include "tools/support_inspect_protocol.hpp"
+#include "hal/drivers/protocol_capture.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -11,13 +11,12 @@
 
 #include "hal/drivers/protocol_decoder.hpp"
 
-namespace orthosonar::cli {
+namespace orthosonar::hal::drivers {
 namespace {
 
-using hal::drivers::DecodedMessage;
 
 // A field's text as JSON: a number when the whole text is one, true/false, else a string.
-nlohmann::ordered_json value_json(const std::string& text) {
+nlohmann::ordered_json capture_value_json(const std::string& text) {
   if (text == "true") return true;
   if (text == "false") return false;
   if (!text.empty()) {
@@ -32,7 +31,7 @@ nlohmann::ordered_json value_json(const std::string& text) {
   return text;
 }
 
-std::string csv_cell(const std::string& s) {
+std::string capture_csv_cell(const std::string& s) {
   if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
   std::string out = "\"";
   for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
@@ -42,18 +41,18 @@ std::string csv_cell(const std::string& s) {
 }  // namespace
 
 int inspect_protocol_capture(const std::string& path, const std::string& protocol, bool json,
-                             const std::string& csv_path) {
-  auto p = hal::drivers::protocol_from_name(protocol);
+                             const std::string& csv_path, std::ostream& out, std::ostream& err) {
+  auto p = protocol_from_name(protocol);
   if (!p) {
-    std::cerr << "orthosonar inspect: --protocol: " << p.error().message << "\n";
+    err << "orthosonar inspect: --protocol: " << p.error().message << "\n";
     return 2;
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    std::cerr << "orthosonar inspect: cannot open '" << path << "'\n";
+    err << "orthosonar inspect: cannot open '" << path << "'\n";
     return 2;
   }
-  auto decoder = hal::drivers::make_decoder(*p);
+  auto decoder = make_decoder(*p);
   nlohmann::ordered_json messages = nlohmann::ordered_json::array();
   std::vector<DecodedMessage> rows;  // for --csv
   std::map<std::string, uint64_t> types;
@@ -62,12 +61,12 @@ int inspect_protocol_capture(const std::string& path, const std::string& protoco
       ++types[m->type];
       if (json) {
         nlohmann::ordered_json f = nlohmann::ordered_json::object();
-        for (const auto& [k, v] : m->fields) f[k] = value_json(v);
+        for (const auto& [k, v] : m->fields) f[k] = capture_value_json(v);
         messages.push_back({{"offset", m->offset}, {"size", m->size}, {"type", m->type}, {"fields", f}});
       } else {
-        std::cout << "@" << m->offset << " " << m->type;
-        for (const auto& [k, v] : m->fields) std::cout << " " << k << "=" << v;
-        std::cout << "\n";
+        out << "@" << m->offset << " " << m->type;
+        for (const auto& [k, v] : m->fields) out << " " << k << "=" << v;
+        out << "\n";
       }
       if (!csv_path.empty()) rows.push_back(std::move(*m));
     }
@@ -81,7 +80,7 @@ int inspect_protocol_capture(const std::string& path, const std::string& protoco
     drain();
   }
   if (in.bad()) {
-    std::cerr << "orthosonar inspect: read error in '" << path << "'\n";
+    err << "orthosonar inspect: read error in '" << path << "'\n";
     return 2;
   }
   decoder->finish();
@@ -96,18 +95,18 @@ int inspect_protocol_capture(const std::string& path, const std::string& protoco
         if (index.emplace(k, columns.size()).second) columns.push_back(k);
     std::ofstream csv(csv_path, std::ios::binary | std::ios::trunc);
     csv << "offset,type";
-    for (const auto& k : columns) csv << "," << csv_cell(k);
+    for (const auto& k : columns) csv << "," << capture_csv_cell(k);
     csv << "\n";
     for (const auto& r : rows) {
       std::vector<std::string> cells(columns.size());
       for (const auto& [k, v] : r.fields) cells[index[k]] = v;
-      csv << r.offset << "," << csv_cell(r.type);
-      for (const auto& v : cells) csv << "," << csv_cell(v);
+      csv << r.offset << "," << capture_csv_cell(r.type);
+      for (const auto& v : cells) csv << "," << capture_csv_cell(v);
       csv << "\n";
     }
     csv.close();
     if (!csv) {
-      std::cerr << "orthosonar inspect: cannot write '" << csv_path << "'\n";
+      err << "orthosonar inspect: cannot write '" << csv_path << "'\n";
       return 2;
     }
   }
@@ -123,19 +122,19 @@ int inspect_protocol_capture(const std::string& path, const std::string& protoco
                      {"other", c.other},         {"skipped_bytes", c.skipped_bytes},
                      {"trailing_bytes", c.trailing_bytes}};
     if (!c.last_error.empty()) doc["last_error"] = c.last_error;
-    std::cout << doc.dump(2) << "\n";
+    out << doc.dump(2) << "\n";
   } else {
-    std::cout << path << " (" << protocol << "): " << c.good << " good, " << c.bad << " bad, " << c.unsupported
+    out << path << " (" << protocol << "): " << c.good << " good, " << c.bad << " bad, " << c.unsupported
               << " unsupported, " << c.duplicates << " duplicate, " << c.other << " other message(s); "
               << c.skipped_bytes << " skipped byte(s), " << c.trailing_bytes << " trailing byte(s)\n";
-    if (!c.last_error.empty()) std::cout << "last error: " << c.last_error << "\n";
+    if (!c.last_error.empty()) out << "last error: " << c.last_error << "\n";
   }
   if (c.good == 0) {
-    std::cerr << "orthosonar inspect: '" << path << "' holds no " << protocol << " message"
+    err << "orthosonar inspect: '" << path << "' holds no " << protocol << " message"
               << (c.last_error.empty() ? std::string() : "; last error: " + c.last_error) << "\n";
     return 2;
   }
   return (c.bad > 0 || c.unsupported > 0) ? 1 : 0;
 }
 
-}  // namespace orthosonar::cli
+}  // namespace orthosonar::hal::drivers

@@ -1,0 +1,136 @@
+#include "core/mapping/perception_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <variant>
+
+namespace orthosonar::mapping {
+
+void tally_image(const SonarPing& ping, const std::vector<uint8_t>& semantic,
+                 const std::vector<perception::Detection>& dets, double overlap_rad, MountTally& t) {
+  ++t.images;
+  const size_t n = static_cast<size_t>(ping.rows) * ping.cols;
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t x = ping.at(static_cast<int>(i / ping.cols), static_cast<int>(i % ping.cols));
+    const uint8_t c = semantic[i];
+    (c == 0 ? t.water : c == 1 ? t.seabed : t.structure).add(x);
+    t.all.add(x);
+  }
+  for (const perception::Detection& d : dets) {
+    const uint8_t c = semantic[static_cast<size_t>(d.row) * ping.cols + static_cast<size_t>(d.col)];
+    ++t.det;
+    t.det_true += c != 0;
+    t.det_structure += c >= 2;
+    if (std::abs(ping.bearings_rad[static_cast<size_t>(d.col)]) <= overlap_rad) {
+      ++t.det_overlap;
+      t.det_overlap_true += c != 0;
+      t.det_overlap_structure += c >= 2;
+    }
+  }
+}
+
+namespace {
+
+double sorted_quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<size_t>(std::floor(q * static_cast<double>(v.size() - 1)))];
+}
+
+}  // namespace
+
+FusionFigures fusion_figures(const std::vector<double>& err) {
+  if (err.empty()) return {std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan("")};
+  double mae = 0, sq = 0;
+  size_t within = 0;
+  for (double e : err) {
+    mae += e;
+    sq += e * e;
+    within += e <= 0.1;
+  }
+  const double n = static_cast<double>(err.size());
+  return {sorted_quantile(err, 0.5), sorted_quantile(err, 0.9), mae / n, std::sqrt(sq / n),
+          static_cast<double>(within) / n};
+}
+
+PerceptionMeter::PerceptionMeter(const perception::FusionConfig& config, const TriangleMesh& mesh, int every,
+                                 bool keep_points)
+    : cfg_(config),
+      overlap_rad_(config.overlap_deg * std::numbers::pi / 180.0),
+      dist_(mesh),
+      every_(static_cast<size_t>(std::max(every, 1))),
+      pairer_(Time::from_seconds(config.max_pair_dt_s)) {
+  out_.gate_h = config.cfar_h.gate;
+  out_.gate_v = config.cfar_v.gate;
+  out_.fusion.keep_points = keep_points;
+}
+
+void PerceptionMeter::add(Event event) {
+  latest_ = std::max(latest_, event.stamp);
+  if (auto* l = std::get_if<SonarLabels>(&event.payload)) {
+    ++label_events_;
+    labels_[{l->mount == SonarMount::kHorizontal ? 0 : 1, l->ping_id}] = std::move(l->semantic);
+  } else if (auto* tp = std::get_if<TruthPose>(&event.payload)) {
+    ++truth_events_;
+    truth_.add(*tp);
+  } else if (auto* ping = std::get_if<SonarPing>(&event.payload)) {
+    pairer_.push(std::move(*ping));
+  }
+  drain(false);
+}
+
+Status PerceptionMeter::finish(const std::string& what) {
+  pairer_.flush();
+  drain(true);
+  if (label_events_ == 0) return Error{what + ": has no per-pixel labels (simulate --labels writes them)"};
+  if (truth_events_ == 0) return Error{what + ": has no truth poses"};
+  if (out_.fusion.fused == 0) return Error{what + ": no h/v pair with labels to measure"};
+  return {};
+}
+
+void PerceptionMeter::drain(bool final) {
+  while (auto pr = pairer_.pop()) pending_.push_back(std::move(*pr));
+  while (!pending_.empty()) {
+    const SonarPing& h = pending_.front().first;
+    const SonarPing& v = pending_.front().second;
+    const bool ready = final ||
+                       (labels_.count({0, h.ping_id}) && labels_.count({1, v.ping_id}) && !truth_.empty() &&
+                        truth_.last_stamp() >= h.stamp) ||
+                       latest_ > std::max(h.stamp, v.stamp) + Time::from_s(1);
+    if (!ready) break;
+    measure_pair(h, v);
+    pending_.pop_front();
+  }
+}
+
+void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
+  FusionTally& f = out_.fusion;
+  const auto lh = labels_.find({0, h.ping_id});
+  const auto lv = labels_.find({1, v.ping_id});
+  const size_t nh = static_cast<size_t>(h.rows) * h.cols, nv = static_cast<size_t>(v.rows) * v.cols;
+  const bool take = f.pairs++ % every_ == 0 && lh != labels_.end() && lv != labels_.end() &&
+                    lh->second.size() == nh && lv->second.size() == nv;
+  if (take) {
+    ++f.fused;
+    const perception::FusionResult r = perception::fuse_pair(h, v, cfg_);
+    f.subproblems += r.subproblems;
+    f.matches += r.matches;
+    f.culled += r.culled_low_confidence;
+    tally_image(h, lh->second, r.detections_h, overlap_rad_, out_.h);
+    tally_image(v, lv->second, r.detections_v, overlap_rad_, out_.v);
+    if (const auto T_W_V = truth_.at(h.stamp))
+      for (const perception::FusedPoint& p : r.points) {
+        const Eigen::Vector3d p_W = *T_W_V * p.p_V.cast<double>();
+        f.err.push_back(dist_.distance(p_W));
+        if (f.keep_points)
+          f.points.push_back({p_W.cast<float>(), p.range_m, p.bearing_rad, p.elevation_rad, p.confidence,
+                              h.stamp.seconds()});
+      }
+  }
+  labels_.erase(labels_.begin(), labels_.upper_bound({0, h.ping_id}));
+  labels_.erase(labels_.lower_bound({1, 0}), labels_.upper_bound({1, v.ping_id}));
+  // Keep the truth pose at or before this stamp (interpolation of later pairs).
+  truth_.forget_before(h.stamp);
+}
+
+}  // namespace orthosonar::mapping

@@ -1,0 +1,101 @@
+#pragma once
+// Perception measured against simulator truth, with no SLAM in the way (the measuring unit
+// behind `orthosonar perception-check`, docs/PERCEPTION.md): per image type, intensity
+// statistics per labelled class (water 0, seabed 1, structure >= 2) and over all pixels,
+// CFAR detections per image and their precision against the labels; fused points placed
+// with the true vehicle pose (TruthTrack, i.e. truth_pose_at) and their distance to the
+// scene mesh. PerceptionMeter takes a source's events in stream order.
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/events.hpp"
+#include "core/mapping/intensity_histogram.hpp"
+#include "core/mapping/mesh_distance.hpp"
+#include "core/mapping/metrics.hpp"
+#include "core/mesh.hpp"
+#include "core/perception/fusion.hpp"
+#include "core/perception/pairing.hpp"
+#include "core/result.hpp"
+#include "core/time.hpp"
+
+namespace orthosonar::mapping {
+
+// One image type (h or v) over the measured pairs.
+struct MountTally {
+  IntensityHistogram water, seabed, structure, all;
+  size_t images = 0;
+  size_t det = 0, det_true = 0, det_structure = 0;  // detections; on label != 0; on label >= 2
+  size_t det_overlap = 0, det_overlap_true = 0, det_overlap_structure = 0;  // the same within ±overlap
+};
+
+// Adds one image with its per-pixel labels (semantic, rows * cols) and its detections;
+// a detection is "in the overlap" when its beam's |bearing| <= overlap_rad.
+void tally_image(const SonarPing& ping, const std::vector<uint8_t>& semantic,
+                 const std::vector<perception::Detection>& dets, double overlap_rad, MountTally& t);
+
+struct FusionTally {
+  size_t pairs = 0, fused = 0, subproblems = 0, matches = 0, culled = 0;
+  std::vector<double> err;   // distance of each fused point to the mesh, true pose
+  bool keep_points = false;  // keep each point's fields below, in err's order
+  struct Point {
+    Eigen::Vector3f p_W;  // true-pose world position
+    float range_m, bearing_rad, elevation_rad, confidence;
+    double stamp_s;
+  };
+  std::vector<Point> points;
+};
+
+// Distance statistics (NaN each when there is no distance): quantiles are the sorted
+// sample at floor(q (n - 1)); within: share <= 0.1 m.
+struct FusionFigures {
+  double median, p90, mae, rmse, within;
+};
+FusionFigures fusion_figures(const std::vector<double>& err);
+
+struct PerceptionMeasurement {
+  double gate_h = 0, gate_v = 0;  // the CFAR gates of the configuration measured
+  MountTally h, v;
+  FusionTally fusion;
+};
+
+// Pairs h and v pings, fuses every n-th pair that has labels for both, tallies its images
+// and places its points with the truth pose at the h stamp. A pair waits for its labels and
+// the truth pose at its stamp (both follow the pings in the (stamp, channel) order); after
+// 1 s of stream time, or at finish(), it is measured anyway.
+class PerceptionMeter {
+ public:
+  // keep_points: keep every fused point's fields (FusionTally::points).
+  PerceptionMeter(const perception::FusionConfig& config, const TriangleMesh& mesh, int every, bool keep_points);
+  // The next event of the stream; pings, labels and truth poses are used, the rest ignored.
+  void add(Event event);
+  // End of the stream. An error (naming `what`, the source) when the stream had no labels,
+  // no truth poses or no labelled h/v pair.
+  Status finish(const std::string& what);
+  const PerceptionMeasurement& measurement() const { return out_; }
+  PerceptionMeasurement take() { return std::move(out_); }
+
+ private:
+  void drain(bool final);
+  void measure_pair(const SonarPing& h, const SonarPing& v);
+
+  perception::FusionConfig cfg_;
+  double overlap_rad_;
+  MeshDistance dist_;
+  size_t every_;
+  perception::PingPairer pairer_;
+  std::map<std::pair<int, uint32_t>, std::vector<uint8_t>> labels_;  // (mount, ping id) -> semantic
+  TruthTrack truth_;
+  std::deque<std::pair<SonarPing, SonarPing>> pending_;
+  size_t label_events_ = 0, truth_events_ = 0;
+  Time latest_ = Time::min();
+  PerceptionMeasurement out_;
+};
+
+}  // namespace orthosonar::mapping

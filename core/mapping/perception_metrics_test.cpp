@@ -1,0 +1,180 @@
+// The perception measuring unit (perception_metrics.hpp, intensity_histogram.hpp) and the
+// streaming truth track (metrics.hpp TruthTrack) it places points with.
+#include "core/mapping/perception_metrics.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+using namespace orthosonar;
+using namespace orthosonar::mapping;
+
+namespace {
+
+SonarPing flat_ping(SonarMount mount, uint32_t id, Time stamp, uint16_t rows, uint16_t cols, uint8_t value) {
+  SonarPing p;
+  p.mount = mount;
+  p.ping_id = id;
+  p.stamp = stamp;
+  p.rows = rows;
+  p.cols = cols;
+  p.bearings_rad.resize(cols);
+  for (uint16_t c = 0; c < cols; ++c) p.bearings_rad[c] = (c - (cols - 1) / 2.0) * 0.05;
+  p.image.assign(static_cast<size_t>(rows) * cols, value);
+  return p;
+}
+
+Event event(Payload payload) {
+  Event e;
+  e.stamp = stamp_of(payload);
+  e.channel = channel_of(payload);
+  e.payload = std::move(payload);
+  return e;
+}
+
+TruthPose truth_at(Time t, double x) {
+  TruthPose p;
+  p.stamp = t;
+  p.p_W = Vec3(x, 0, -2);
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("intensity histogram: quantiles, mean, gate and Otsu's split", "[unit]") {
+  IntensityHistogram h;
+  for (uint32_t x : {10u, 10u, 10u, 12u, 200u, 210u}) h.add(x);
+  CHECK(h.n == 6);
+  CHECK(h.quantile(0.5) == 10.0);   // sorted[floor(0.5 * 5)] = sorted[2]
+  CHECK(h.quantile(0.9) == 200.0);  // sorted[4]
+  CHECK(h.quantile(1.0) == 210.0);
+  CHECK(h.mean() == Approx(452.0 / 6.0));
+  CHECK(h.above(12) == 2);
+  CHECK(h.fraction_above(12) == Approx(2.0 / 6.0));
+  const OtsuSplit s = otsu(h);
+  CHECK(s.threshold == 12.0);
+  CHECK(s.dark_fraction == Approx(4.0 / 6.0));
+  CHECK(s.dark_p50 == 10.0);
+  CHECK(s.bright_p50 == 200.0);
+  IntensityHistogram sum;
+  sum.add(h);
+  sum.add(h);
+  CHECK(sum.n == 12);
+  CHECK(sum.quantile(0.5) == 10.0);
+  const IntensityHistogram empty;
+  CHECK(std::isnan(empty.quantile(0.5)));
+  CHECK(std::isnan(empty.mean()));
+  CHECK(std::isnan(otsu(empty).threshold));
+  IntensityHistogram one;
+  one.add(7);
+  CHECK(otsu(one).threshold == 7.0);
+  CHECK(otsu(one).dark_fraction == 1.0);
+}
+
+TEST_CASE("tally_image: classes by label, detection precision in and out of the overlap", "[unit]") {
+  SonarPing p = flat_ping(SonarMount::kHorizontal, 1, Time::from_s(1), 2, 3, 5);
+  p.image[4] = 90;  // row 1, col 1 (the centre beam, bearing 0)
+  p.image[5] = 80;  // row 1, col 2 (bearing 0.05 rad)
+  const std::vector<uint8_t> semantic = {0, 0, 0, 1, 2, 0};
+  std::vector<perception::Detection> dets(2);
+  dets[0].row = 1;
+  dets[0].col = 1;  // on structure
+  dets[1].row = 1;
+  dets[1].col = 2;  // on water
+  MountTally t;
+  tally_image(p, semantic, dets, 0.01, t);
+  CHECK(t.images == 1);
+  CHECK(t.water.n == 4);
+  CHECK(t.seabed.n == 1);
+  CHECK(t.structure.n == 1);
+  CHECK(t.structure.quantile(0.5) == 90.0);
+  CHECK(t.all.n == 6);
+  CHECK(t.det == 2);
+  CHECK(t.det_true == 1);
+  CHECK(t.det_structure == 1);
+  CHECK(t.det_overlap == 1);  // only the centre beam is within 0.01 rad
+  CHECK(t.det_overlap_structure == 1);
+}
+
+TEST_CASE("fusion figures of mesh distances", "[unit]") {
+  const FusionFigures f = fusion_figures({0.3, 0.05, 0.1, 0.2});
+  CHECK(f.median == 0.1);  // sorted[floor(0.5 * 3)] = sorted[1]
+  CHECK(f.p90 == 0.2);     // sorted[2]
+  CHECK(f.mae == Approx(0.1625));
+  CHECK(f.rmse == Approx(std::sqrt((0.09 + 0.0025 + 0.01 + 0.04) / 4)));
+  CHECK(f.within == 0.5);
+  CHECK(std::isnan(fusion_figures({}).median));
+}
+
+TEST_CASE("truth track: truth_pose_at inside, held at the ends, forgets only what is behind", "[unit]") {
+  std::vector<TruthPose> truth = {truth_at(Time::from_s(1), 0), truth_at(Time::from_s(2), 1),
+                                  truth_at(Time::from_s(3), 4)};
+  truth[2].q_W_V = Quat(Eigen::AngleAxisd(0.4, Vec3::UnitZ()));
+  TruthTrack track;
+  CHECK_FALSE(track.at(Time::from_s(1)).has_value());
+  track.add(truth[2]);  // out of order: inserted in place
+  track.add(truth[0]);
+  track.add(truth[1]);
+  REQUIRE(track.size() == 3);
+  CHECK(track.last_stamp() == Time::from_s(3));
+  for (int ms : {1000, 1250, 2000, 2500, 2999, 3000}) {
+    const auto a = track.at(Time::from_ms(ms));
+    const auto b = truth_pose_at(truth, Time::from_ms(ms));
+    REQUIRE(a.has_value());
+    REQUIRE(b.has_value());
+    CHECK(a->matrix() == b->matrix());
+  }
+  CHECK(track.at(Time::from_ms(500))->translation() == Vec3(0, 0, -2));
+  CHECK(track.at(Time::from_s(9))->translation() == Vec3(4, 0, -2));
+  track.forget_before(Time::from_ms(2500));  // keeps the pose at 2 s for interpolation
+  CHECK(track.size() == 2);
+  CHECK(track.at(Time::from_ms(2500))->matrix() == truth_pose_at(truth, Time::from_ms(2500))->matrix());
+  track.forget_before(Time::from_s(3));
+  CHECK(track.size() == 1);
+  TruthPose moved = truth_at(Time::from_s(3), 7);
+  track.add(moved);  // the same stamp replaces
+  CHECK(track.size() == 1);
+  CHECK(track.at(Time::from_s(3))->translation().x() == 7.0);
+}
+
+TEST_CASE("perception meter: a labelled pair is tallied, missing labels or truth are errors", "[unit]") {
+  perception::FusionConfig cfg;
+  const TriangleMesh mesh;
+  const auto stream = [&](bool labels, bool truth) {
+    PerceptionMeter meter(cfg, mesh, 1, false);
+    for (uint32_t id = 0; id < 2; ++id) {
+      const Time t = Time::from_ms(100 * id);
+      meter.add(event(flat_ping(SonarMount::kHorizontal, id, t, 4, 5, 3)));
+      meter.add(event(flat_ping(SonarMount::kVertical, id, t, 4, 5, 3)));
+      if (labels)
+        for (SonarMount m : {SonarMount::kHorizontal, SonarMount::kVertical}) {
+          SonarLabels l;
+          l.stamp = t;
+          l.mount = m;
+          l.ping_id = id;
+          l.rows = 4;
+          l.cols = 5;
+          l.semantic.assign(20, id == 0 ? 0 : 1);
+          meter.add(event(l));
+        }
+      if (truth) meter.add(event(truth_at(t, id)));
+    }
+    Status s = meter.finish("src");
+    return std::pair{std::move(s), meter.take()};
+  };
+  const auto [ok, m] = stream(true, true);
+  REQUIRE(ok.ok());
+  CHECK(m.fusion.pairs == 2);
+  CHECK(m.fusion.fused == 2);
+  CHECK(m.h.images == 2);
+  CHECK(m.v.images == 2);
+  CHECK(m.h.water.n == 20);   // ping 0: all water
+  CHECK(m.h.seabed.n == 20);  // ping 1: all seabed
+  CHECK(m.h.all.quantile(0.5) == 3.0);
+  CHECK(m.gate_h == cfg.cfar_h.gate);
+  const auto no_labels = stream(false, true).first;
+  REQUIRE_FALSE(no_labels.ok());
+  CHECK(no_labels.error().message == "src: has no per-pixel labels (simulate --labels writes them)");
+  const auto no_truth = stream(true, false).first;
+  REQUIRE_FALSE(no_truth.ok());
+  CHECK(no_truth.error().message == "src: has no truth poses");
+}
