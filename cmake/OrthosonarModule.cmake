@@ -41,7 +41,7 @@ include(GNUInstallDirs)
 # orthosonarTargets, see cmake/OrthosonarInstall.cmake): orthosonar_<name> is known as
 # orthosonar::<name> both in this build (an ALIAS) and to find_package(orthosonar) users.
 # Its public headers (every *.hpp in the module folder except test helpers) go to
-# include/orthosonar/<folder>/, so "#include \"replay/fixture.hpp\"" works after install too.
+# include/orthosonar/<folder>/, so "#include \"replay/fixture/fixture.hpp\"" works after install too.
 function(orthosonar_install_module target dir)
   string(REGEX REPLACE "^orthosonar_" "" short ${target})
   add_library(orthosonar::${short} ALIAS ${target})
@@ -164,7 +164,8 @@ endfunction()
 function(orthosonar_all_libraries out_var)
   set(libs "")
   foreach(t orthosonar_core orthosonar_perception orthosonar_slam orthosonar_mapping orthosonar_inference
-      orthosonar_hal orthosonar_codec orthosonar_sim orthosonar_drivers orthosonar_replay orthosonar_outputs orthosonar_reports
+      orthosonar_hal orthosonar_codec orthosonar_sim orthosonar_drivers orthosonar_mcap orthosonar_ros1_codec
+      orthosonar_fixture orthosonar_digest orthosonar_replay orthosonar_outputs orthosonar_reports
       orthosonar_run orthosonar_ros)
     if(TARGET ${t})
       list(APPEND libs ${t})

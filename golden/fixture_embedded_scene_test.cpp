@@ -12,11 +12,11 @@
 #include <sstream>
 #include <string>
 
-#include "replay/testing.hpp"
+#include "replay/fixture/testing.hpp"
 #include "golden/cli_runner.hpp"
 #include "hal/sim/mesh_io.hpp"
 #include "hal/sim/simulator.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace orthosonar;

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "replay/testing.hpp"
+#include "replay/fixture/testing.hpp"
 #include "golden/cli_runner.hpp"
 #include "replay/run/mission.hpp"
 #include "replay/run/run.hpp"

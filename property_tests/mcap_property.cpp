@@ -6,10 +6,10 @@
 #include <catch2/catch.hpp>
 
 #include "property_tests/replay_event_gen.hpp"
-#include "replay/fixture.hpp"
-#include "replay/fixture_summary.hpp"
-#include "replay/synthetic.hpp"
-#include "replay/testing.hpp"
+#include "replay/fixture/fixture.hpp"
+#include "replay/fixture/fixture_summary.hpp"
+#include "replay/fixture/synthetic.hpp"
+#include "replay/fixture/testing.hpp"
 
 using namespace orthosonar;
 using namespace orthosonar::replay;

@@ -6,7 +6,7 @@
 // names where each non-default value came from. `--ranges` lists every key's valid range.
 #include <iostream>
 
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_run_args.hpp"
 

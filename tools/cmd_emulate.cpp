@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "hal/drivers/emulator.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "tools/cli.hpp"
 
 namespace orthosonar::cli {

@@ -13,7 +13,7 @@
 
 #include "core/perception/fusion.hpp"
 #include "core/perception/pairing.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/outputs/map_writers.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_cut_inputs.hpp"

@@ -1,12 +1,12 @@
 // `orthosonar recover IN.mcap -o OUT.mcap`: a recording cut short (a killed recorder, a
 // full disk) rewritten as a whole, indexed fixture: chunks, attachments, metadata,
-// summary and footer (replay/recover.hpp). Replaying OUT gives the digest of replaying IN
+// summary and footer (replay/fixture/recover.hpp). Replaying OUT gives the digest of replaying IN
 // with --allow-incomplete. Exit codes: 0 OUT written (IN cut or whole), 2 IN unreadable
 // or OUT not writable.
 #include <cstdio>
 #include <iostream>
 
-#include "replay/recover.hpp"
+#include "replay/fixture/recover.hpp"
 #include "tools/cli.hpp"
 
 namespace orthosonar::cli {

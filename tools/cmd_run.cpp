@@ -14,8 +14,8 @@
 
 #include "hal/drivers/live_source.hpp"
 #include "orthosonar/version.hpp"
-#include "replay/fixture.hpp"
-#include "replay/recording.hpp"
+#include "replay/fixture/fixture.hpp"
+#include "replay/fixture/recording.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_cut_inputs.hpp"
 #include "tools/support_run_args.hpp"

@@ -16,13 +16,13 @@
 #include <thread>
 
 #include "hal/fake_source.hpp"
-#include "replay/fixture.hpp"
+#include "replay/batch/sweep_outputs.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "tools/cli.hpp"
 #include "tools/support_cut_inputs.hpp"
 #include "replay/run/mission.hpp"
 #include "tools/support_run_args.hpp"
 #include "replay/run/sweep.hpp"
-#include "tools/support_sweep_report.hpp"
 
 namespace orthosonar::cli {
 namespace {
@@ -77,8 +77,8 @@ Result<SweepReport> sweep_one(const SweepArgs& a, const RunOptions& options, con
   report.input_cut = replay::cut_input_warning(fixture, prepared->recovery).value_or("");
   if (Status s = write_sweep_outputs(report, dir); !s.ok()) return s.error();
   if (!a.no_report) {
-    if (Status s = write_reference_outputs(fixture, options, threads, dir); !s.ok()) return s.error();
-    if (Status s = write_sweep_report(dir, "orthosonar sweep: " + report.scene); !s.ok()) return s.error();
+    if (Status s = batch::write_reference_outputs(fixture, options, threads, dir); !s.ok()) return s.error();
+    if (Status s = batch::write_sweep_report(dir, "orthosonar sweep: " + report.scene); !s.ok()) return s.error();
   }
   return report;
 }

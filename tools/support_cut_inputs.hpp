@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "tools/cli.hpp"
 
 namespace orthosonar::cli {

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "orthosonar/version.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/run/run.hpp"
-#include "replay/synthetic.hpp"
+#include "replay/fixture/synthetic.hpp"
 
 namespace {
 

@@ -15,9 +15,9 @@
 #include "core/canonical.hpp"
 #include "hal/drivers/oculus_protocol.hpp"
 #include "hal/drivers/oculus_stream.hpp"
-#include "replay/fixture.hpp"
-#include "replay/ros1_codec.hpp"
-#include "replay/synthetic.hpp"
+#include "replay/fixture/fixture.hpp"
+#include "replay/ros/codec/ros1_codec.hpp"
+#include "replay/fixture/synthetic.hpp"
 
 namespace fs = std::filesystem;
 using namespace orthosonar;

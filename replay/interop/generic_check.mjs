@@ -1,4 +1,4 @@
-// Reads a file of orthosonar's GenericWriter (replay/mcap_generic.hpp) with non-ROS 1
+// Reads a file of orthosonar's GenericWriter (replay/mcap/mcap_generic.hpp) with non-ROS 1
 // topics and encodings (cdr, json, a schemaless channel) with the official TypeScript
 // MCAP readers, and checks every record against what the writer was given.
 //   node generic_check.mjs generic.mcap   (expects generic.mcap.expected.json beside it)

@@ -5,8 +5,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "replay/fixture.hpp"
-#include "replay/synthetic.hpp"
+#include "replay/fixture/fixture.hpp"
+#include "replay/fixture/synthetic.hpp"
 
 int main(int argc, char** argv) {
   using namespace orthosonar;

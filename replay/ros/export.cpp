@@ -17,8 +17,8 @@
 
 #include "hal/codec/image_codec.hpp"
 #include "orthosonar/version.hpp"
-#include "replay/fixture.hpp"
-#include "replay/mcap_generic.hpp"
+#include "replay/fixture/fixture.hpp"
+#include "replay/mcap/mcap_generic.hpp"
 #include "replay/ros/msg_encode.hpp"
 #include "replay/ros/msg_types.hpp"
 #include "replay/ros/ros_msg.hpp"

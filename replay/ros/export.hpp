@@ -15,7 +15,7 @@
 #include <string>
 
 #include "core/result.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 
 namespace orthosonar::replay::ros {
 

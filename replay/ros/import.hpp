@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "core/result.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/ros/topic_map.hpp"
 
 namespace orthosonar::replay::ros {

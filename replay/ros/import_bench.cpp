@@ -10,10 +10,10 @@
 #include <map>
 #include <stdexcept>
 
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/ros/export.hpp"
 #include "replay/ros/import.hpp"
-#include "replay/synthetic.hpp"
+#include "replay/fixture/synthetic.hpp"
 
 namespace orthosonar::replay::ros {
 namespace {

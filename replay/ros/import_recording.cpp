@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "replay/mcap_generic.hpp"
+#include "replay/mcap/mcap_generic.hpp"
 #include "replay/ros/msg_types.hpp"
 #include "replay/ros/rosbag.hpp"
 

@@ -8,12 +8,12 @@
 #include <fstream>
 #include <numbers>
 
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/ros/export.hpp"
 #include "replay/ros/import.hpp"
 #include "replay/ros/topic_map.hpp"
-#include "replay/synthetic.hpp"
-#include "replay/testing.hpp"
+#include "replay/fixture/synthetic.hpp"
+#include "replay/fixture/testing.hpp"
 
 namespace orthosonar::replay::ros {
 namespace {

@@ -18,13 +18,13 @@
 #include <opencv2/core.hpp>
 
 #include "hal/codec/image_codec.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/ros/import.hpp"
 #include "replay/ros/msg_encode.hpp"
 #include "replay/ros/ros_msg.hpp"
 #include "replay/ros/rosbag.hpp"
 #include "replay/ros/topic_map.hpp"
-#include "replay/testing.hpp"
+#include "replay/fixture/testing.hpp"
 
 namespace orthosonar::replay::ros {
 namespace {

@@ -18,7 +18,7 @@
 #include <string_view>
 #include <utility>
 
-#include "replay/mcap_reader.hpp"
+#include "replay/fixture/mcap_reader.hpp"
 
 namespace orthosonar::replay::rosbag {
 using namespace detail;

@@ -8,7 +8,7 @@
 #include <set>
 #include <string_view>
 
-#include "replay/testing.hpp"
+#include "replay/fixture/testing.hpp"
 
 using namespace orthosonar;
 using namespace orthosonar::replay::rosbag;

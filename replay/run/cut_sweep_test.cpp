@@ -31,12 +31,12 @@
 #include <utility>
 #include <vector>
 
-#include "replay/fixture.hpp"
-#include "replay/mcap_reader.hpp"
-#include "replay/recover.hpp"
+#include "replay/fixture/fixture.hpp"
+#include "replay/fixture/mcap_reader.hpp"
+#include "replay/fixture/recover.hpp"
 #include "replay/run/mission.hpp"
 #include "replay/run/run.hpp"
-#include "replay/testing.hpp"
+#include "replay/fixture/testing.hpp"
 
 namespace fs = std::filesystem;
 using namespace orthosonar;

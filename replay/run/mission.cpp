@@ -9,7 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "hal/sim/simulator.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 
 namespace orthosonar::run {
 namespace {

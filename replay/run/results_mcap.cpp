@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "orthosonar/version.hpp"
-#include "replay/mcap_generic.hpp"
+#include "replay/mcap/mcap_generic.hpp"
 #include "replay/run/run.hpp"
 
 namespace orthosonar::run {

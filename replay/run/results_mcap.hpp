@@ -1,7 +1,7 @@
 #pragma once
 // results.mcap: a run's outputs as one MCAP file that Foxglove opens beside the input
 // fixture (docs/RESULTS.md). JSON messages ("json") described by the official Foxglove
-// JSON schemas ("jsonschema"), written with replay/mcap_generic.hpp's GenericWriter:
+// JSON schemas ("jsonschema"), written with replay/mcap/mcap_generic.hpp's GenericWriter:
 //
 //   /orthosonar/<system>/map        foxglove.PointCloud     one, at the end of the stream;
 //                                                           x y z float32, stride 12, frame world

@@ -16,11 +16,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/mapping/pipeline.hpp"
-#include "replay/mcap_generic.hpp"
+#include "replay/mcap/mcap_generic.hpp"
 #include "replay/run/mission.hpp"
 #include "replay/run/results_mcap.hpp"
 #include "replay/run/run.hpp"
-#include "replay/testing.hpp"
+#include "replay/fixture/testing.hpp"
 
 namespace fs = std::filesystem;
 using namespace orthosonar;

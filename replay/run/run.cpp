@@ -24,8 +24,8 @@
 #include "hal/sim/mesh_io.hpp"
 #include "hal/sim/scene.hpp"
 #include "orthosonar/version.hpp"
-#include "replay/digest.hpp"
-#include "replay/fixture.hpp"
+#include "replay/digest/digest.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/outputs/map_writers.hpp"
 #include "replay/run/trajectory.hpp"
 

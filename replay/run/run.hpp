@@ -33,8 +33,8 @@
 #include "core/mapping/pipeline.hpp"
 #include "core/mesh.hpp"
 #include "hal/event_source.hpp"
-#include "replay/digest.hpp"
-#include "replay/fixture.hpp"
+#include "replay/digest/digest.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/run/run_config.hpp"
 
 namespace orthosonar::inference {
@@ -144,7 +144,7 @@ struct RunOutput {
   std::string mesh_note;    // where the mesh came from, or why there is none
   Time stream_span;         // last - first event stamp
   double wall_s = 0.0;
-  replay::DigestResult digest;  // replay/digest.hpp: SHA-256 per output and overall
+  replay::DigestResult digest;  // replay/digest/digest.hpp: SHA-256 per output and overall
   // The input fixture (run_fixture) and whether it was whole (replay::cut_input_warning):
   // summary.json's "input" records both. Live runs leave the path empty.
   std::string input_path;

@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "replay/testing.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/testing.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/run/mission.hpp"
 #include "replay/run/run.hpp"
 

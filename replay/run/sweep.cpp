@@ -20,7 +20,7 @@
 
 #include "core/perception/fusion.hpp"
 #include "hal/fake_source.hpp"
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 
 namespace orthosonar::run {
 

@@ -8,11 +8,11 @@
 #include <iostream>
 #include <string>
 
-#include "replay/fixture.hpp"
+#include "replay/fixture/fixture.hpp"
 #include "replay/ros/export.hpp"
 #include "replay/ros/import.hpp"
 #include "replay/ros/topic_map.hpp"
-#include "replay/synthetic.hpp"
+#include "replay/fixture/synthetic.hpp"
 
 using namespace orthosonar;
 namespace fs = std::filesystem;
