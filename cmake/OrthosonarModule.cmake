@@ -164,9 +164,9 @@ endfunction()
 function(orthosonar_all_libraries out_var)
   set(libs "")
   foreach(t orthosonar_core orthosonar_perception orthosonar_slam orthosonar_mapping orthosonar_inference
-      orthosonar_hal orthosonar_codec orthosonar_sim orthosonar_drivers orthosonar_mcap orthosonar_ros1_codec
-      orthosonar_fixture orthosonar_digest orthosonar_replay orthosonar_outputs orthosonar_reports
-      orthosonar_run orthosonar_ros)
+      orthosonar_hal orthosonar_config orthosonar_codec orthosonar_sim orthosonar_drivers orthosonar_mcap
+      orthosonar_ros1_codec orthosonar_fixture orthosonar_digest orthosonar_replay orthosonar_outputs
+      orthosonar_reports orthosonar_run orthosonar_ros orthosonar_batch orthosonar_verify)
     if(TARGET ${t})
       list(APPEND libs ${t})
     endif()

@@ -32,7 +32,7 @@ foreach(f
     lib/cmake/orthosonar/orthosonarConfig.cmake
     lib/cmake/orthosonar/orthosonarTargets.cmake
     include/orthosonar/version.hpp
-    include/orthosonar/replay/fixture.hpp
+    include/orthosonar/replay/fixture/fixture.hpp
     include/orthosonar/core/events.hpp
     bin/orthosonar)
   if(NOT EXISTS ${prefix}/${f})
