@@ -14,6 +14,7 @@ struct DeviceHealth {
   bool connected = false;
   uint64_t messages_ok = 0;
   uint64_t messages_malformed = 0;   // counted and skipped, never fatal
+  uint64_t sequence_gaps = 0;        // breaks in the device's own packet counter (DSP-1760), 0 without one
   uint64_t reconnects = 0;
   std::string last_error;
 };

@@ -1,6 +1,7 @@
 // `orthosonar emulate f.mcap`: serves a fixture's sensor data over the real device protocols
 // on loopback at the recorded rate (Oculus TCP pings + UDP status, VN-100 binary, A50 JSON or
-// $PRTI01, $DEPTH lines) and writes the devices.yaml that `orthosonar run` connects with.
+// $PRTI01, $DEPTH lines, DSP-1760 gyro packets) and writes the devices.yaml that `orthosonar
+// run` connects with.
 #include <atomic>
 #include <csignal>
 #include <fstream>
@@ -112,7 +113,7 @@ const bool registered_emulate = register_command(
        sub.add_option("fixture", a->fixture, "Fixture (.mcap) to serve")->required();
        sub.add_option("--rate", a->rate, "Playback speed factor (1 = recorded rate)")->capture_default_str();
        sub.add_option("--base-port", a->base_port,
-                      "First TCP port: sonar_h, sonar_v, imu, dvl, depth = P..P+4 (0: ephemeral ports)")
+                      "First TCP port: sonar_h, sonar_v, imu, dvl, depth, gyro = P..P+5 (0: ephemeral ports)")
            ->capture_default_str();
        sub.add_option("--address", a->address, "Address to listen on")->capture_default_str();
        sub.add_option("--oculus-version", a->oculus_version, "SimplePingResult version 1 or 2")

@@ -1,5 +1,6 @@
 #include "hal/drivers/decoders.hpp"
 
+#include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/dvl_protocols.hpp"
 #include "hal/drivers/line_framer.hpp"
 #include "hal/drivers/oculus_stream.hpp"
@@ -73,6 +74,24 @@ class Vn100Decoder final : public Decoder {
   std::string last_error_;
 };
 
+// KVH DSP-1760: every packet with a good CRC is a GyroReading (invalid ones included, marked).
+class Dsp1760Decoder final : public Decoder {
+ public:
+  explicit Dsp1760Decoder(const DeviceConfig& c) : config_(c.gyro) {}
+  void push(std::span<const uint8_t> bytes, std::vector<Payload>& out) override {
+    parser_.push(bytes);
+    while (auto p = parser_.pop()) out.emplace_back(dsp1760::to_gyro_reading(*p, config_, Time()));
+  }
+  uint64_t messages() const override { return parser_.messages(); }
+  uint64_t malformed() const override { return parser_.malformed(); }
+  uint64_t sequence_gaps() const override { return parser_.stats().sequence_gaps; }
+  std::string last_error() const override { return parser_.last_error(); }
+
+ private:
+  dsp1760::Config config_;
+  dsp1760::StreamParser parser_;
+};
+
 // Line protocols: A50 JSON, PRTI01, depth.
 class LineDecoder final : public Decoder {
  public:
@@ -128,6 +147,7 @@ std::unique_ptr<Decoder> make_decoder(const DeviceConfig& c) {
     case DeviceKind::kA50:
     case DeviceKind::kPrti01:
     case DeviceKind::kDepth: return std::make_unique<LineDecoder>(c);
+    case DeviceKind::kDsp1760: return std::make_unique<Dsp1760Decoder>(c);
   }
   return nullptr;
 }

@@ -17,6 +17,8 @@ class Decoder {
   virtual uint64_t messages() const = 0;
   virtual uint64_t malformed() const = 0;
   virtual std::string last_error() const = 0;
+  // Discontinuities of the device's own packet counter (DSP-1760); 0 for devices without one.
+  virtual uint64_t sequence_gaps() const { return 0; }
   // Bytes to send right after connecting (the Oculus SimpleFire message), empty otherwise.
   virtual Bytes greeting() const { return {}; }
   // A status datagram (Oculus UDP 52102); false when it is not a valid status message.

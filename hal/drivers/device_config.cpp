@@ -25,14 +25,16 @@ const char* kind_name(DeviceKind k) {
     case DeviceKind::kA50: return "a50";
     case DeviceKind::kPrti01: return "prti01";
     case DeviceKind::kDepth: return "depth";
+    case DeviceKind::kDsp1760: return "dsp1760";
   }
   return "?";
 }
 
 Result<DeviceKind> kind_from_name(const std::string& s) {
-  for (DeviceKind k : {DeviceKind::kOculus, DeviceKind::kVn100, DeviceKind::kA50, DeviceKind::kPrti01, DeviceKind::kDepth})
+  for (DeviceKind k : {DeviceKind::kOculus, DeviceKind::kVn100, DeviceKind::kA50, DeviceKind::kPrti01, DeviceKind::kDepth,
+                      DeviceKind::kDsp1760})
     if (s == kind_name(k)) return k;
-  return Error{"unknown device kind '" + s + "' (oculus, vn100, a50, prti01, depth)"};
+  return Error{"unknown device kind '" + s + "' (oculus, vn100, a50, prti01, depth, dsp1760)"};
 }
 
 // Every key of a map must be one this file reads: a misspelt key (`silence_timout_ms`,
@@ -88,6 +90,12 @@ Result<LiveConfig> parse_live_config(const std::string& text) {
                                                          "part_number", "status_port", "fire", "mount_rpy_deg"});
             !s)
           return s.error();
+      } else if (d.kind == DeviceKind::kDsp1760) {
+        // No mount_rpy_deg: a gyro's readings stay in its frame G (the run configuration mounts it).
+        if (auto s = device_config_known_keys(n, where + " (dsp1760)", {"name", "kind", "address", "port", "serial", "baud",
+                                                                         "output", "angle_units", "temperature_units"});
+            !s)
+          return s.error();
       } else if (auto s = device_config_known_keys(n, where + " (" + kind_name(d.kind) + ")",
                                                    {"name", "kind", "address", "port", "serial", "baud", "mount_rpy_deg"});
                  !s) {
@@ -96,7 +104,7 @@ Result<LiveConfig> parse_live_config(const std::string& text) {
       d.address = n["address"].as<std::string>(d.address);
       d.port = n["port"].as<uint16_t>(d.kind == DeviceKind::kOculus ? oculus::kTcpPort : 0);
       d.serial_path = n["serial"].as<std::string>("");
-      d.baud = n["baud"].as<int>(d.baud);
+      d.baud = n["baud"].as<int>(d.kind == DeviceKind::kDsp1760 ? 921600 : d.baud);
       if (d.port == 0 && d.serial_path.empty()) return Error{"devices.yaml: device '" + d.name + "' needs 'port' or 'serial'"};
       if (d.kind == DeviceKind::kOculus) {
         const std::string mount = n["mount"].as<std::string>("horizontal");
@@ -127,6 +135,18 @@ Result<LiveConfig> parse_live_config(const std::string& text) {
                                               (beams == 512 ? oculus::kFlag512Beams : 0) |
                                               (f["send_gain"].as<bool>(false) ? oculus::kFlagSendGain : 0));
         }
+      }
+      if (d.kind == DeviceKind::kDsp1760) {
+        // What the gyro was configured to send (=dr output, units, =tempunits): not in its packets.
+        auto out = dsp1760::output_from_name(n["output"].as<std::string>("delta"));
+        if (!out) return Error{"devices.yaml: " + where + ": output: " + out.error().message};
+        auto ang = dsp1760::angle_unit_from_name(n["angle_units"].as<std::string>("rad"));
+        if (!ang) return Error{"devices.yaml: " + where + ": angle_units: " + ang.error().message};
+        auto tmp = dsp1760::temperature_unit_from_name(n["temperature_units"].as<std::string>("c"));
+        if (!tmp) return Error{"devices.yaml: " + where + ": temperature_units: " + tmp.error().message};
+        d.gyro.output = *out;
+        d.gyro.angle_unit = *ang;
+        d.gyro.temperature_unit = *tmp;
       }
       if (const auto m = n["mount_rpy_deg"]) {
         if (!m.IsSequence() || m.size() != 3) return Error{"devices.yaml: device '" + d.name + "': mount_rpy_deg needs 3 numbers"};
@@ -176,6 +196,10 @@ std::string to_yaml(const LiveConfig& c) {
         << ", gamma: " << int(d.fire.gamma) << ", mode: " << int(d.fire.master_mode)
         << ", bits: " << ((d.fire.flags & oculus::kFlagData16Bit) ? 16 : 8)
         << ", beams: " << ((d.fire.flags & oculus::kFlag512Beams) ? 512 : 256) << "}\n";
+    } else if (d.kind == DeviceKind::kDsp1760) {
+      o << "    output: " << dsp1760::output_name(d.gyro.output) << "\n    angle_units: "
+        << dsp1760::angle_unit_name(d.gyro.angle_unit) << "\n    temperature_units: "
+        << dsp1760::temperature_unit_name(d.gyro.temperature_unit) << "\n";
     } else {
       const Vec3 r = rpy_deg(d.q_V_S);
       o << "    mount_rpy_deg: [" << r.x() << ", " << r.y() << ", " << r.z() << "]\n";

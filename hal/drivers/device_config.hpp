@@ -6,12 +6,13 @@
 
 #include "core/events.hpp"
 #include "core/result.hpp"
+#include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/live_queue.hpp"
 #include "hal/drivers/oculus_protocol.hpp"
 
 namespace orthosonar::hal::drivers {
 
-enum class DeviceKind { kOculus, kVn100, kA50, kPrti01, kDepth };
+enum class DeviceKind { kOculus, kVn100, kA50, kPrti01, kDepth, kDsp1760 };
 const char* kind_name(DeviceKind k);
 Result<DeviceKind> kind_from_name(const std::string& s);
 
@@ -20,7 +21,7 @@ struct DeviceConfig {
   DeviceKind kind = DeviceKind::kOculus;
   std::string address = "127.0.0.1";  // Oculus: "auto" = discover from the UDP status broadcast
   uint16_t port = 0;
-  std::string serial_path;            // VN-100 / PRTI01 over a serial port instead of TCP
+  std::string serial_path;            // VN-100 / PRTI01 / DSP-1760 over a serial port instead of TCP
   int baud = 115200;
   // Oculus.
   SonarMount mount = SonarMount::kHorizontal;
@@ -31,6 +32,8 @@ struct DeviceConfig {
   uint16_t status_port = oculus::kStatusUdpPort;  // 0 with listen_status: an ephemeral port (tests)
   // IMU / DVL mounting rotation of the sensor frame in V (roll, pitch, yaw in radians).
   Quat q_V_S = Quat::Identity();
+  // KVH DSP-1760: what the gyro was configured to send (its readings stay in its frame G).
+  dsp1760::Config gyro;
 };
 
 struct ReconnectPolicy {

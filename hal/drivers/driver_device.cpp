@@ -41,6 +41,7 @@ Status DriverDevice::connect() {
   if (decoder_) {
     ok_before_ += decoder_->messages();
     malformed_before_ += decoder_->malformed();
+    gaps_before_ += decoder_->sequence_gaps();
   }
   decoder_ = make_decoder(config_);
   if (status_seen_) (void)decoder_->on_status(last_status_);  // keep the learned part number
@@ -145,6 +146,7 @@ DeviceHealth DriverDevice::health() const {
   DeviceHealth h = health_;
   h.messages_ok = ok_before_ + (decoder_ ? decoder_->messages() : 0);
   h.messages_malformed += malformed_before_ + (decoder_ ? decoder_->malformed() : 0);
+  h.sequence_gaps = gaps_before_ + (decoder_ ? decoder_->sequence_gaps() : 0);
   if (decoder_ && !decoder_->last_error().empty()) h.last_error = decoder_->last_error();
   return h;
 }

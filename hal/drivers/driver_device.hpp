@@ -49,6 +49,7 @@ class DriverDevice final : public Device {
   DeviceHealth health_;
   uint64_t malformed_before_ = 0;  // from previous connections
   uint64_t ok_before_ = 0;
+  uint64_t gaps_before_ = 0;
 };
 
 }  // namespace orthosonar::hal::drivers

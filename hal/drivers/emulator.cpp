@@ -5,6 +5,7 @@
 #include <mutex>
 #include <thread>
 
+#include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/dvl_protocols.hpp"
 #include "hal/drivers/oculus_stream.hpp"
 #include "hal/drivers/socket.hpp"
@@ -44,7 +45,7 @@ MissionEmulator::MissionEmulator(std::vector<Event> events, EmulatorOptions opti
   std::stable_sort(events.begin(), events.end(), event_before);
   t0_stream_ = events.empty() ? Time() : events.front().stamp;
   duration_ = events.empty() ? Time() : events.back().stamp - t0_stream_;
-  const char* names[] = {"sonar_h", "sonar_v", "imu", "dvl", "depth"};
+  const char* names[] = {"sonar_h", "sonar_v", "imu", "dvl", "depth", "gyro"};
   std::map<int, Server*> by_slot;
   auto server_for = [&](int slot) -> Server& {
     auto it = by_slot.find(slot);
@@ -56,7 +57,8 @@ MissionEmulator::MissionEmulator(std::vector<Event> events, EmulatorOptions opti
     s->config.kind = slot < 2 ? DeviceKind::kOculus
                      : slot == 2 ? DeviceKind::kVn100
                      : slot == 3 ? (options_.dvl_prti01 ? DeviceKind::kPrti01 : DeviceKind::kA50)
-                                 : DeviceKind::kDepth;
+                     : slot == 4 ? DeviceKind::kDepth
+                                 : DeviceKind::kDsp1760;
     s->config.mount = slot == 1 ? SonarMount::kVertical : SonarMount::kHorizontal;
     s->config.q_V_S = slot == 2 ? options_.q_V_imu : slot == 3 ? options_.q_V_dvl : Quat::Identity();
     s->config.fire_version = options_.oculus_version;
@@ -85,6 +87,12 @@ MissionEmulator::MissionEmulator(std::vector<Event> events, EmulatorOptions opti
     } else if (const auto* z = std::get_if<DepthReading>(&e.payload)) {
       const std::string line = dvl::encode_depth_line(z->depth_m);
       server_for(4).frames.push_back({off, Bytes(line.begin(), line.end())});
+    } else if (const auto* g = std::get_if<GyroReading>(&e.payload)) {
+      // Configured as the fixture's gyro was (delta or rate), temperature in 1/100 degree C.
+      Server& s = server_for(5);
+      s.config.gyro.output = g->is_rate ? dsp1760::Output::kRate : dsp1760::Output::kDeltaAngle;
+      s.config.gyro.temperature_unit = dsp1760::TemperatureUnit::kCentiCelsius;
+      s.frames.push_back({off, dsp1760::encode_packet(dsp1760::packet_from(*g, s.config.gyro))});
     }
   }
   for (auto& s : servers_) s->stats.frames = s->frames.size();

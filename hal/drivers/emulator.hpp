@@ -2,8 +2,8 @@
 // Device emulators: serve a recorded or simulated event stream over the real protocols on
 // loopback, at the recorded rate — the bytes a real device would send. One TCP server per
 // device: Oculus SimplePingResult (after the client's SimpleFire, as the sonar does) plus UDP
-// status datagrams, VN-100 binary, A50 JSON or $PRTI01, $DEPTH lines. Used in-process by the
-// tests (ephemeral ports) and by `orthosonar emulate`.
+// status datagrams, VN-100 binary, A50 JSON or $PRTI01, $DEPTH lines, KVH DSP-1760 packets
+// (gyro). Used in-process by the tests (ephemeral ports) and by `orthosonar emulate`.
 #include <atomic>
 #include <map>
 #include <memory>
@@ -24,7 +24,7 @@ struct Outage {
 
 struct EmulatorOptions {
   std::string address = "127.0.0.1";
-  uint16_t base_port = 0;        // 0: ephemeral ports; else sonar_h, sonar_v, imu, dvl, depth = base+0..4
+  uint16_t base_port = 0;        // 0: ephemeral ports; else sonar_h, sonar_v, imu, dvl, depth, gyro = base+0..5
   double rate = 1.0;             // playback speed (2 = twice as fast as recorded)
   int oculus_version = 2;        // SimplePingResult V1 or V2
   bool dvl_prti01 = false;       // serve the DVL as Rowe $PRTI01 instead of A50 JSON

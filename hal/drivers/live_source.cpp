@@ -167,6 +167,7 @@ std::string report_json(const LiveReport& r) {
       gaps.push_back({{"from_ns", g.from.ns()}, {"to_ns", g.to == Time::max() ? nlohmann::json() : nlohmann::json(g.to.ns())}, {"reason", g.reason}});
     j["devices"].push_back({{"name", d.name}, {"kind", d.kind}, {"connected", d.health.connected},
                             {"messages_ok", d.health.messages_ok}, {"messages_malformed", d.health.messages_malformed},
+                            {"sequence_gaps", d.health.sequence_gaps},
                             {"reconnects", d.health.reconnects}, {"connect_failures", d.connect_failures},
                             {"part_number", d.part_number}, {"last_error", d.health.last_error}, {"gaps", gaps}});
   }

@@ -121,12 +121,19 @@ int inspect_protocol_capture(const std::string& path, const std::string& protoco
                      {"unsupported", c.unsupported}, {"duplicates", c.duplicates},
                      {"other", c.other},         {"skipped_bytes", c.skipped_bytes},
                      {"trailing_bytes", c.trailing_bytes}};
+    if (c.sequence_gaps) {
+      doc["counts"]["sequence_gaps"] = *c.sequence_gaps;
+      doc["counts"]["missing_packets"] = c.missing_packets;
+    }
     if (!c.last_error.empty()) doc["last_error"] = c.last_error;
     out << doc.dump(2) << "\n";
   } else {
     out << path << " (" << protocol << "): " << c.good << " good, " << c.bad << " bad, " << c.unsupported
               << " unsupported, " << c.duplicates << " duplicate, " << c.other << " other message(s); "
-              << c.skipped_bytes << " skipped byte(s), " << c.trailing_bytes << " trailing byte(s)\n";
+              << c.skipped_bytes << " skipped byte(s), " << c.trailing_bytes << " trailing byte(s)";
+    if (c.sequence_gaps)
+      out << "; " << *c.sequence_gaps << " sequence gap(s), " << c.missing_packets << " missing packet(s)";
+    out << "\n";
     if (!c.last_error.empty()) out << "last error: " << c.last_error << "\n";
   }
   if (c.good == 0) {

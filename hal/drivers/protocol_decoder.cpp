@@ -4,6 +4,7 @@
 #include <deque>
 #include <variant>
 
+#include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/dvl_protocols.hpp"
 #include "hal/drivers/oculus_stream.hpp"
 #include "hal/drivers/vn100.hpp"
@@ -149,6 +150,35 @@ class Vn100ProtocolDecoder final : public BinaryDecoder<vn100::StreamParser> {
     c.unsupported = s.unsupported;
     c.skipped_bytes = s.skipped_bytes + s.dropped_bytes;
     c.trailing_bytes = trailing();
+    c.last_error = parser_.last_error();
+    return c;
+  }
+};
+
+// ---- KVH DSP-1760 ----------------------------------------------------------------------------
+
+class Dsp1760ProtocolDecoder final : public BinaryDecoder<dsp1760::StreamParser> {
+ public:
+  std::optional<DecodedMessage> pop() override {
+    auto p = parser_.pop();
+    if (!p) return std::nullopt;
+    DecodedMessage d;
+    d.type = "packet";
+    d.size = dsp1760::kPacketBytes;
+    d.offset = start_of(d.size);
+    d.fields = dsp1760::describe(*p);
+    if (parser_.last_missing() > 0) d.fields.emplace_back("missing_before", std::to_string(parser_.last_missing()));
+    return d;
+  }
+  DecodeCounts counts() const override {
+    const auto& s = parser_.stats();
+    DecodeCounts c;
+    c.good = s.accepted;
+    c.bad = s.bad_crc + s.bad_field;
+    c.skipped_bytes = s.skipped_bytes + s.dropped_bytes;
+    c.trailing_bytes = trailing();
+    c.sequence_gaps = s.sequence_gaps;
+    c.missing_packets = s.missing_packets;
     c.last_error = parser_.last_error();
     return c;
   }
@@ -316,7 +346,8 @@ Result<Protocol> protocol_from_name(std::string_view name) {
   if (name == "a50") return Protocol::kA50;
   if (name == "prti") return Protocol::kPrti;
   if (name == "depth") return Protocol::kDepth;
-  return Error{"unknown protocol '" + std::string(name) + "' (oculus, vn100, a50, prti, depth)"};
+  if (name == "dsp1760") return Protocol::kDsp1760;
+  return Error{"unknown protocol '" + std::string(name) + "' (oculus, vn100, a50, prti, depth, dsp1760)"};
 }
 
 const char* protocol_name(Protocol p) {
@@ -326,6 +357,7 @@ const char* protocol_name(Protocol p) {
     case Protocol::kA50: return "a50";
     case Protocol::kPrti: return "prti";
     case Protocol::kDepth: return "depth";
+    case Protocol::kDsp1760: return "dsp1760";
   }
   return "?";
 }
@@ -337,6 +369,7 @@ std::unique_ptr<ProtocolDecoder> make_decoder(Protocol p) {
     case Protocol::kA50: return std::make_unique<A50Decoder>();
     case Protocol::kPrti: return std::make_unique<PrtiDecoder>();
     case Protocol::kDepth: return std::make_unique<DepthDecoder>();
+    case Protocol::kDsp1760: return std::make_unique<Dsp1760ProtocolDecoder>();
   }
   return nullptr;
 }

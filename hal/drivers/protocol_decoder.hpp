@@ -17,8 +17,8 @@
 
 namespace orthosonar::hal::drivers {
 
-enum class Protocol { kOculus, kVn100, kA50, kPrti, kDepth };
-// "oculus", "vn100", "a50", "prti", "depth"; an error lists the names.
+enum class Protocol { kOculus, kVn100, kA50, kPrti, kDepth, kDsp1760 };
+// "oculus", "vn100", "a50", "prti", "depth", "dsp1760"; an error lists the names.
 Result<Protocol> protocol_from_name(std::string_view name);
 const char* protocol_name(Protocol p);
 
@@ -41,6 +41,10 @@ struct DecodeCounts {
   uint64_t other = 0;          // well-formed messages that carry no measurement (A50 responses, other sentences)
   uint64_t skipped_bytes = 0;  // bytes between messages: garbage, ASCII, rejected frames, blank lines
   uint64_t trailing_bytes = 0; // an incomplete message at the end of the capture
+  // Protocols whose packets carry a counter (DSP-1760): its breaks and the packets they
+  // skip. Unset for the others.
+  std::optional<uint64_t> sequence_gaps;
+  uint64_t missing_packets = 0;
   std::string last_error;      // the latest rejection, with its offset
 };
 
