@@ -25,6 +25,7 @@ struct EmulateArgs {
   std::string address = "127.0.0.1";
   int oculus_version = 2;
   bool prti01 = false;
+  bool rti_ensemble = false;
   int status_port = hal::drivers::oculus::kStatusUdpPort;
   std::string devices_out;
   double linger_s = 2.0;
@@ -57,6 +58,7 @@ int run_emulate(const EmulateArgs& a) {
   o.rate = a.rate;
   o.oculus_version = a.oculus_version;
   o.dvl_prti01 = a.prti01;
+  o.dvl_rti_ensemble = a.rti_ensemble;
   o.status_port = static_cast<uint16_t>(a.status_port);
   o.wait_for_clients = !a.no_wait;
   for (const auto& spec : a.outages) {  // device:at_s:duration_s
@@ -119,6 +121,9 @@ const bool registered_emulate = register_command(
        sub.add_option("--oculus-version", a->oculus_version, "SimplePingResult version 1 or 2")
            ->check(CLI::IsMember({1, 2}))->capture_default_str();
        sub.add_flag("--prti01", a->prti01, "Serve the DVL as Rowe $PRTI01 instead of Water Linked A50 JSON");
+       sub.add_flag("--rti-ensemble", a->rti_ensemble,
+                    "Serve the DVL as Rowe RTI binary ensembles (bottom track) instead of A50 JSON")
+           ->excludes("--prti01");
        sub.add_option("--status-port", a->status_port, "UDP port for Oculus status datagrams (0: none)")
            ->check(CLI::Range(0, 65535))->capture_default_str();
        sub.add_option("--devices-out", a->devices_out, "Write the devices.yaml for `orthosonar run` here");

@@ -21,7 +21,7 @@ struct InspectOptions {
   std::string path;
   bool json = false;
   size_t max_gaps = 10;  // per channel, in the text output
-  std::string protocol;  // a raw device capture: oculus, vn100, a50, prti, depth, dsp1760
+  std::string protocol;  // a raw device capture: oculus, vn100, a50, prti, depth, rti-ensemble, dsp1760
   std::string csv;       // --protocol: decoded fields as CSV
 };
 
@@ -142,8 +142,8 @@ const bool registered_inspect = register_command(
        sub.add_flag("--json", o->json, "Machine-readable output");
        sub.add_option("--max-gaps", o->max_gaps, "Gaps listed per channel in the text output")->capture_default_str();
        sub.add_option("--protocol", o->protocol,
-                      "Decode a raw device capture (serial/TCP bytes): oculus, vn100, a50, prti, depth, dsp1760")
-           ->check(CLI::IsMember({"oculus", "vn100", "a50", "prti", "depth", "dsp1760"}));
+                      "Decode a raw device capture (serial/TCP bytes): oculus, vn100, a50, prti, depth, rti-ensemble, dsp1760")
+           ->check(CLI::IsMember({"oculus", "vn100", "a50", "prti", "depth", "rti-ensemble", "dsp1760"}));
        sub.add_option("--csv", o->csv, "With --protocol: write the decoded fields as CSV here");
        return [o] { return run_inspect(*o); };
      }});

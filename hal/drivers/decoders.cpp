@@ -3,6 +3,7 @@
 #include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/dvl_protocols.hpp"
 #include "hal/drivers/line_framer.hpp"
+#include "hal/drivers/rti_ensemble.hpp"
 #include "hal/drivers/oculus_stream.hpp"
 #include "hal/drivers/vn100.hpp"
 
@@ -92,6 +93,33 @@ class Dsp1760Decoder final : public Decoder {
   dsp1760::StreamParser parser_;
 };
 
+// Rowe RTI binary ensembles: an ensemble with a bottom-track data set is a DvlReading (invalid
+// velocities included, marked); ensembles without one are not events.
+class RtiEnsembleDecoder final : public Decoder {
+ public:
+  explicit RtiEnsembleDecoder(const DeviceConfig& c) : q_V_S_(c.q_V_S) {}
+  void push(std::span<const uint8_t> bytes, std::vector<Payload>& out) override {
+    parser_.push(bytes);
+    while (auto e = parser_.pop()) {
+      if (auto r = rti::to_dvl_reading(*e, q_V_S_, Time())) {
+        ++ok_;
+        out.emplace_back(*r);
+      }
+    }
+  }
+  uint64_t messages() const override { return ok_; }
+  uint64_t malformed() const override {
+    const auto& s = parser_.stats();
+    return s.bad_checksum + s.partial + s.malformed;
+  }
+  std::string last_error() const override { return parser_.last_error(); }
+
+ private:
+  Quat q_V_S_;
+  rti::StreamParser parser_;
+  uint64_t ok_ = 0;
+};
+
 // Line protocols: A50 JSON, PRTI01, depth.
 class LineDecoder final : public Decoder {
  public:
@@ -147,6 +175,7 @@ std::unique_ptr<Decoder> make_decoder(const DeviceConfig& c) {
     case DeviceKind::kA50:
     case DeviceKind::kPrti01:
     case DeviceKind::kDepth: return std::make_unique<LineDecoder>(c);
+    case DeviceKind::kRtiEnsemble: return std::make_unique<RtiEnsembleDecoder>(c);
     case DeviceKind::kDsp1760: return std::make_unique<Dsp1760Decoder>(c);
   }
   return nullptr;

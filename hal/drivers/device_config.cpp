@@ -25,6 +25,7 @@ const char* kind_name(DeviceKind k) {
     case DeviceKind::kA50: return "a50";
     case DeviceKind::kPrti01: return "prti01";
     case DeviceKind::kDepth: return "depth";
+    case DeviceKind::kRtiEnsemble: return "rti-ensemble";
     case DeviceKind::kDsp1760: return "dsp1760";
   }
   return "?";
@@ -34,7 +35,8 @@ Result<DeviceKind> kind_from_name(const std::string& s) {
   for (DeviceKind k : {DeviceKind::kOculus, DeviceKind::kVn100, DeviceKind::kA50, DeviceKind::kPrti01, DeviceKind::kDepth,
                       DeviceKind::kDsp1760})
     if (s == kind_name(k)) return k;
-  return Error{"unknown device kind '" + s + "' (oculus, vn100, a50, prti01, depth, dsp1760)"};
+  if (s == kind_name(DeviceKind::kRtiEnsemble)) return DeviceKind::kRtiEnsemble;
+  return Error{"unknown device kind '" + s + "' (oculus, vn100, a50, prti01, depth, dsp1760, rti-ensemble)"};
 }
 
 // Every key of a map must be one this file reads: a misspelt key (`silence_timout_ms`,

@@ -12,7 +12,7 @@
 
 namespace orthosonar::hal::drivers {
 
-enum class DeviceKind { kOculus, kVn100, kA50, kPrti01, kDepth, kDsp1760 };
+enum class DeviceKind { kOculus, kVn100, kA50, kPrti01, kDepth, kDsp1760, kRtiEnsemble };
 const char* kind_name(DeviceKind k);
 Result<DeviceKind> kind_from_name(const std::string& s);
 

@@ -10,6 +10,7 @@
 
 #include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/oculus_stream.hpp"
+#include "hal/drivers/rti_ensemble.hpp"
 #include "hal/drivers/vn100.hpp"
 
 using namespace orthosonar;
@@ -95,9 +96,42 @@ void BM_Dsp1760Decode(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(wire.size()));
 }
 
+// Rowe RTI ensembles as a DVL streams them (256 KiB), framed, CRC-checked, decoded and
+// converted to DvlReadings: bytes per second is the decoding speed (target >= 200 MB/s).
+// Arg 0: ensemble data, ancillary and bottom track (~630 B each); arg 30: plus beam velocity,
+// amplitude and correlation profiles of 30 bins x 4 beams, skipped by their declared size.
+void BM_RtiEnsembleDecode(benchmark::State& state) {
+  const auto bins = static_cast<int32_t>(state.range(0));
+  Bytes wire;
+  for (uint32_t n = 1; wire.size() < 256 * 1024; ++n) {
+    DvlReading r;
+    r.velocity_V_mps = Vec3(0.01 * (n % 50), -0.2, 0.05);
+    r.altitude_m = 3.5;
+    const rti::Ensemble e = rti::ensemble_from(r, Quat::Identity(), n, Time::from_ms(200 * int64_t{n}));
+    std::vector<Bytes> sets{rti::encode(*e.ensemble_data),
+                            rti::encode_data_set(rti::kAncillaryName, rti::kTypeFloat, 19, 1, Bytes(19 * 4, 0))};
+    if (bins > 0)
+      for (const char* name : {"E000001", "E000004", "E000005"})
+        sets.push_back(rti::encode_data_set(name, rti::kTypeFloat, bins, 4, Bytes(static_cast<size_t>(bins) * 16, 0x3f)));
+    sets.push_back(rti::encode(*e.bottom_track));
+    const Bytes one = rti::encode_ensemble(n, sets);
+    wire.insert(wire.end(), one.begin(), one.end());
+  }
+  for (auto _ : state) {
+    rti::StreamParser parser;
+    parser.push(wire);
+    double sum = 0;
+    while (auto e = parser.pop())
+      if (auto r = rti::to_dvl_reading(*e, Quat::Identity(), Time())) sum += r->velocity_V_mps.x();
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(wire.size()));
+}
+
 }  // namespace
 
 BENCHMARK(BM_OculusDecodeRealCapture);
 BENCHMARK(BM_OculusDecodeFullPing512x600);
 BENCHMARK(BM_Vn100Decode);
+BENCHMARK(BM_RtiEnsembleDecode)->Arg(0)->Arg(30);
 BENCHMARK(BM_Dsp1760Decode);

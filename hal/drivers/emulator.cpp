@@ -7,6 +7,7 @@
 
 #include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/dvl_protocols.hpp"
+#include "hal/drivers/rti_ensemble.hpp"
 #include "hal/drivers/oculus_stream.hpp"
 #include "hal/drivers/socket.hpp"
 #include "hal/drivers/vn100.hpp"
@@ -56,7 +57,9 @@ MissionEmulator::MissionEmulator(std::vector<Event> events, EmulatorOptions opti
     s->config.port = options_.base_port ? static_cast<uint16_t>(options_.base_port + slot) : 0;
     s->config.kind = slot < 2 ? DeviceKind::kOculus
                      : slot == 2 ? DeviceKind::kVn100
-                     : slot == 3 ? (options_.dvl_prti01 ? DeviceKind::kPrti01 : DeviceKind::kA50)
+                     : slot == 3 ? (options_.dvl_rti_ensemble ? DeviceKind::kRtiEnsemble
+                                 : options_.dvl_prti01 ? DeviceKind::kPrti01
+                                                       : DeviceKind::kA50)
                      : slot == 4 ? DeviceKind::kDepth
                                  : DeviceKind::kDsp1760;
     s->config.mount = slot == 1 ? SonarMount::kVertical : SonarMount::kHorizontal;
@@ -79,6 +82,11 @@ MissionEmulator::MissionEmulator(std::vector<Event> events, EmulatorOptions opti
     } else if (const auto* r = std::get_if<ImuReading>(&e.payload)) {
       server_for(2).frames.push_back({off, vn100::encode_packet(vn100::message_from(*r, options_.q_V_imu))});
     } else if (const auto* d = std::get_if<DvlReading>(&e.payload)) {
+      if (options_.dvl_rti_ensemble) {  // ensemble numbers from 1
+        const rti::Ensemble ens = rti::ensemble_from(*d, options_.q_V_dvl, ++dvl_sample, off);
+        server_for(3).frames.push_back({off, rti::encode_ensemble(ens)});
+        continue;
+      }
       const dvl::DvlVelocity v = dvl::velocity_from(*d, options_.q_V_dvl);
       const std::string line = options_.dvl_prti01
                                    ? dvl::encode_prti01(v, dvl_sample++, static_cast<uint32_t>(off.ns() / 10000000))

@@ -2,7 +2,7 @@
 // Device emulators: serve a recorded or simulated event stream over the real protocols on
 // loopback, at the recorded rate — the bytes a real device would send. One TCP server per
 // device: Oculus SimplePingResult (after the client's SimpleFire, as the sonar does) plus UDP
-// status datagrams, VN-100 binary, A50 JSON or $PRTI01, $DEPTH lines, KVH DSP-1760 packets
+// status datagrams, VN-100 binary, A50 JSON, $PRTI01 or RTI ensembles, $DEPTH lines, KVH DSP-1760 packets
 // (gyro). Used in-process by the tests (ephemeral ports) and by `orthosonar emulate`.
 #include <atomic>
 #include <map>
@@ -28,6 +28,7 @@ struct EmulatorOptions {
   double rate = 1.0;             // playback speed (2 = twice as fast as recorded)
   int oculus_version = 2;        // SimplePingResult V1 or V2
   bool dvl_prti01 = false;       // serve the DVL as Rowe $PRTI01 instead of A50 JSON
+  bool dvl_rti_ensemble = false; // serve the DVL as Rowe RTI binary ensembles (over dvl_prti01)
   uint16_t status_port = oculus::kStatusUdpPort;  // Oculus status datagrams go to address:status_port
   int64_t status_period_ms = 1000;
   bool wait_for_clients = true;  // start the stream clock once every device has its client ...

@@ -59,6 +59,18 @@ printf '$DEPTH,3.25*7B\n{"type":"depth","depth":2.5}\n' > "$out/depth.txt"
 "$cli" inspect --protocol depth "$out/depth.txt" > "$out/depth.out" || fail "depth exit"
 grep -q '(depth): 2 good, 0 bad' "$out/depth.out" || fail "depth counts"
 
+# Rowe RTI binary ensembles written by Python's struct (testdata/rti/write_ensembles.py): 3 good,
+# a bad checksum and an ensemble cut short by the next (bad), the last cut by the end (trailing).
+set +e
+"$cli" inspect --protocol rti-ensemble "$src/testdata/rti/python_stream.bin" > "$out/rti.txt"; rc=$?
+set -e
+[ $rc -eq 1 ] || fail "rti-ensemble: exit $rc, want 1"
+grep -q '(rti-ensemble): 3 good, 2 bad, 0 unsupported, 0 duplicate, 0 other message(s); 534 skipped byte(s), 60 trailing byte(s)' \
+  "$out/rti.txt" || fail "rti-ensemble counts: $(tail -2 "$out/rti.txt")"
+grep -q '^@7 ensemble ensemble_number=1001 .* bt_instrument_velocity_mps_x=0.5 bt_instrument_velocity_mps_y=-0.25 ' "$out/rti.txt" \
+  || fail "rti-ensemble: ensemble 1001"
+grep -q '^@2019 ensemble ensemble_number=1005 .* bottom_track_valid=true altitude_m=7.5$' "$out/rti.txt" || fail "rti-ensemble: ensemble 1005"
+
 # Bad input: the wrong protocol for a file, an unknown protocol, a missing file: exit 2, named.
 set +e
 "$cli" inspect --protocol prti "$src/testdata/vn100/F00294" > /dev/null 2> "$out/wrong.err"; rc1=$?

@@ -1,7 +1,7 @@
 #pragma once
 // A raw device capture file (serial or TCP byte stream) decoded message by message with the
 // live drivers' parsers (protocol_decoder.hpp), as text, JSON and CSV: what
-// `orthosonar inspect --protocol oculus|vn100|a50|prti|depth FILE [--json] [--csv OUT]` shows.
+// `orthosonar inspect --protocol oculus|vn100|a50|prti|depth|rti-ensemble FILE [--json] [--csv OUT]` shows.
 #include <ostream>
 #include <string>
 

@@ -6,6 +6,7 @@
 
 #include "hal/drivers/dsp1760.hpp"
 #include "hal/drivers/dvl_protocols.hpp"
+#include "hal/drivers/rti_ensemble.hpp"
 #include "hal/drivers/oculus_stream.hpp"
 #include "hal/drivers/vn100.hpp"
 
@@ -184,6 +185,37 @@ class Dsp1760ProtocolDecoder final : public BinaryDecoder<dsp1760::StreamParser>
   }
 };
 
+// ---- Rowe RTI binary ensembles ---------------------------------------------------------------
+
+class RtiEnsembleProtocolDecoder final : public BinaryDecoder<rti::StreamParser> {
+ public:
+  std::optional<DecodedMessage> pop() override {
+    auto e = parser_.pop();
+    if (!e) return std::nullopt;
+    DecodedMessage d;
+    d.type = "ensemble";
+    d.size = parser_.last_ensemble_bytes();
+    d.offset = start_of(d.size);
+    d.fields = rti::describe(*e);
+    return d;
+  }
+  void finish() override {
+    BinaryDecoder::finish();
+    parser_.finish();
+  }
+  DecodeCounts counts() const override {
+    const auto& s = parser_.stats();
+    DecodeCounts c;
+    c.good = s.ensembles;
+    // An ensemble the capture ends inside is trailing bytes, not a bad message.
+    c.bad = s.bad_checksum + s.malformed + s.partial - (parser_.ended_inside() ? 1 : 0);
+    c.skipped_bytes = s.skipped_bytes + s.dropped_bytes;
+    c.trailing_bytes = trailing();
+    c.last_error = parser_.last_error();
+    return c;
+  }
+};
+
 // ---- Line protocols --------------------------------------------------------------------------
 
 // Splits lines ('\n', optional '\r') with their offsets; lines longer than kMaxLine are
@@ -346,8 +378,9 @@ Result<Protocol> protocol_from_name(std::string_view name) {
   if (name == "a50") return Protocol::kA50;
   if (name == "prti") return Protocol::kPrti;
   if (name == "depth") return Protocol::kDepth;
+  if (name == "rti-ensemble") return Protocol::kRtiEnsemble;
   if (name == "dsp1760") return Protocol::kDsp1760;
-  return Error{"unknown protocol '" + std::string(name) + "' (oculus, vn100, a50, prti, depth, dsp1760)"};
+  return Error{"unknown protocol '" + std::string(name) + "' (oculus, vn100, a50, prti, depth, dsp1760, rti-ensemble)"};
 }
 
 const char* protocol_name(Protocol p) {
@@ -357,6 +390,7 @@ const char* protocol_name(Protocol p) {
     case Protocol::kA50: return "a50";
     case Protocol::kPrti: return "prti";
     case Protocol::kDepth: return "depth";
+    case Protocol::kRtiEnsemble: return "rti-ensemble";
     case Protocol::kDsp1760: return "dsp1760";
   }
   return "?";
@@ -369,6 +403,7 @@ std::unique_ptr<ProtocolDecoder> make_decoder(Protocol p) {
     case Protocol::kA50: return std::make_unique<A50Decoder>();
     case Protocol::kPrti: return std::make_unique<PrtiDecoder>();
     case Protocol::kDepth: return std::make_unique<DepthDecoder>();
+    case Protocol::kRtiEnsemble: return std::make_unique<RtiEnsembleProtocolDecoder>();
     case Protocol::kDsp1760: return std::make_unique<Dsp1760ProtocolDecoder>();
   }
   return nullptr;

@@ -17,8 +17,8 @@
 
 namespace orthosonar::hal::drivers {
 
-enum class Protocol { kOculus, kVn100, kA50, kPrti, kDepth, kDsp1760 };
-// "oculus", "vn100", "a50", "prti", "depth", "dsp1760"; an error lists the names.
+enum class Protocol { kOculus, kVn100, kA50, kPrti, kDepth, kDsp1760, kRtiEnsemble };
+// "oculus", "vn100", "a50", "prti", "depth", "dsp1760", "rti-ensemble"; an error lists the names.
 Result<Protocol> protocol_from_name(std::string_view name);
 const char* protocol_name(Protocol p);
 

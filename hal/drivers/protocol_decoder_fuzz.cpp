@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const size_t step = stream->step;
   const auto in = stream->bytes;
   for (auto p : {Protocol::kOculus, Protocol::kVn100, Protocol::kA50, Protocol::kPrti, Protocol::kDepth,
-                 Protocol::kDsp1760}) {
+                 Protocol::kDsp1760, Protocol::kRtiEnsemble}) {
     auto decoder = make_decoder(p);
     uint64_t end = 0;
     auto drain = [&] {
