@@ -12,6 +12,7 @@ const char* channel_topic(Channel c) {
     case Channel::kTruthPose: return "/truth/pose";
     case Channel::kLabelsHorizontal: return "/sonar/horizontal/labels";
     case Channel::kLabelsVertical: return "/sonar/vertical/labels";
+    case Channel::kGyro: return "/gyro";
   }
   return "?";
 }
@@ -25,6 +26,7 @@ Channel channel_of(const Payload& p) {
     Channel operator()(const ImuReading&) const { return Channel::kImu; }
     Channel operator()(const DepthReading&) const { return Channel::kDepth; }
     Channel operator()(const TruthPose&) const { return Channel::kTruthPose; }
+    Channel operator()(const GyroReading&) const { return Channel::kGyro; }
     Channel operator()(const SonarLabels& l) const {
       return l.mount == SonarMount::kHorizontal ? Channel::kLabelsHorizontal : Channel::kLabelsVertical;
     }

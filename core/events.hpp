@@ -74,6 +74,23 @@ struct DepthReading {
   friend bool operator==(const DepthReading&, const DepthReading&) = default;
 };
 
+// One sample of a fibre-optic gyro (the paper's KVH DSP-1760) in its own frame G: the
+// angle it turned through since its previous sample (delta angles, rad) or its rate
+// (rad/s), per the device's configuration. Earth's rotation is in it; dead reckoning
+// removes it and rotates G into V by the configured mounting.
+struct GyroReading {
+  Time stamp;
+  Vec3 value_G = Vec3::Zero();  // rad (delta angles) or rad/s (rates)
+  bool is_rate = false;         // false: delta angles; true: rates
+  bool valid = true;            // the device's status: every axis good
+  uint8_t sequence = 0;         // the device's packet counter (DSP-1760: 0-127), 0 when unknown
+  double temperature_c = 0.0;   // the device's temperature, 0 when unknown
+  friend bool operator==(const GyroReading& a, const GyroReading& b) {
+    return a.stamp == b.stamp && a.value_G == b.value_G && a.is_rate == b.is_rate && a.valid == b.valid &&
+           a.sequence == b.sequence && a.temperature_c == b.temperature_c;
+  }
+};
+
 // Ground-truth pose of V in W (simulation only; the pipeline never reads it).
 struct TruthPose {
   Time stamp;
@@ -107,13 +124,14 @@ enum class Channel : uint8_t {
   kTruthPose = 5,
   kLabelsHorizontal = 6,
   kLabelsVertical = 7,
+  kGyro = 8,  // last, so that recordings without a gyro keep their order and ids
 };
-inline constexpr int kChannelCount = 8;
+inline constexpr int kChannelCount = 9;
 // Topic names as the field vehicle publishes them (SPEC §11).
 const char* channel_topic(Channel c);
 
 using Payload =
-    std::variant<SonarPing, DvlReading, ImuReading, DepthReading, TruthPose, SonarLabels>;
+    std::variant<SonarPing, DvlReading, ImuReading, DepthReading, TruthPose, SonarLabels, GyroReading>;
 
 struct Event {
   Time stamp;

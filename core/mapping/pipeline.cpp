@@ -60,6 +60,9 @@ void Pipeline::consume(const Event& event) {
     case Channel::kLabelsVertical:
       ++counts_.labels;
       break;
+    case Channel::kGyro:
+      if (const auto* r = std::get_if<GyroReading>(&event.payload)) dr_.add(*r);
+      break;
   }
   process_ready(false);
 }
@@ -120,8 +123,12 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
     int id = 0;
     {
       ScopedStage timer(clock_, slam_stats_);
+      const auto& kfs = slam_.keyframes();
+      const std::optional<double> heading_sigma =
+          kfs.empty() ? std::nullopt : dr_.heading_sigma_rad(kfs.back().stamp, stamp);
       id = slam_.add_keyframe(stamp, T_W_V,
-                              perception::planar_points_V(p.h, fused.detections_h, config_.fusion.T_V_h));
+                              perception::planar_points_V(p.h, fused.detections_h, config_.fusion.T_V_h),
+                              heading_sigma);
     }
     std::vector<SE3> poses;
     poses.reserve(slam_.keyframes().size());

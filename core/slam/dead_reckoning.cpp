@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 namespace orthosonar::slam {
@@ -37,7 +38,7 @@ double fraction(Time a, Time b, Time t) {
 
 }  // namespace
 
-DeadReckoning::DeadReckoning(DrConfig config) : config_(std::move(config)) {
+DeadReckoning::DeadReckoning(DrConfig config) : config_(std::move(config)), gyro_(config_.gyro) {
   xy_ = config_.initial_xy_m;
 }
 
@@ -98,7 +99,31 @@ void DeadReckoning::add(const DepthReading& r) {
   prune(depth_);
 }
 
+void DeadReckoning::add(const GyroReading& r) {
+  if (!config_.use_gyro) return;
+  gyro_.add(r, [this](Time t) -> std::optional<Quat> {
+    if (imu_.empty()) return std::nullopt;
+    return imu_orientation_at(t);
+  });
+  counts_.gyro = gyro_.counts();
+}
+
+std::optional<double> DeadReckoning::heading_sigma_rad(Time a, Time b) const {
+  if (!gyro_heading()) return std::nullopt;
+  const double dt = std::abs((b - a).seconds());
+  const double arw = config_.gyro_arw_deg_per_sqrt_h * std::numbers::pi / 180.0 / 60.0;  // rad/sqrt(s)
+  const double bias = config_.gyro_bias_dph * std::numbers::pi / 180.0 / 3600.0;       // rad/s
+  return std::sqrt(arw * arw * dt + bias * dt * bias * dt);
+}
+
 Quat DeadReckoning::orientation_at(Time t) const {
+  const Quat q = imu_orientation_at(t);
+  if (!gyro_heading()) return q;
+  const Vec3 rpy = rpy_from_rotation(q.toRotationMatrix());
+  return Quat(se3_from_xyz_rpy(0, 0, 0, rpy.x(), rpy.y(), *gyro_.yaw_at(t)).rotation());
+}
+
+Quat DeadReckoning::imu_orientation_at(Time t) const {
   const size_t i = bracket(imu_, t);
   if (i + 1 >= imu_.size() || t <= imu_[i].first) return imu_[i].second;
   return imu_[i].second.slerp(fraction(imu_[i].first, imu_[i + 1].first, t), imu_[i + 1].second);

@@ -1,19 +1,22 @@
 #pragma once
 // Dead reckoning (SPEC §2): DVL body velocity rotated into W by the IMU orientation at the
 // DVL stamp, integrated trapezoidally in time; z from depth (z = -depth); roll, pitch and
-// yaw from the IMU (through an optional attitude filter, DrConfig). DVL faults (invalid, non-finite, faster than max_speed_mps) are
+// yaw from the IMU (through an optional attitude filter, DrConfig), or yaw from a
+// fibre-optic gyro when the source has one (gyro_heading.hpp). DVL faults (invalid, non-finite, faster than max_speed_mps) are
 // rejected and counted; the last good velocity is held for at most hold_s, then the
 // vehicle is assumed still and the dropout gap is reported.
 //
 // Feed events in stamp order (SPEC §9). A DVL reading before the first IMU reading cannot
 // be rotated into W and is skipped (counted in dvl_before_imu). Not thread-safe.
 #include <cstddef>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "core/events.hpp"
 #include "core/geometry.hpp"
 #include "core/result.hpp"
+#include "core/slam/gyro_heading.hpp"
 #include "core/time.hpp"
 
 namespace orthosonar::slam {
@@ -32,6 +35,14 @@ struct DrConfig {
   double attitude_filter_max_gap_s = 0.5;  // a longer IMU gap restarts the filter
   // The filter needs gyro rates: a source whose rates are all exactly zero (no gyro output)
   // or not finite gets the orientation as is.
+  // Fibre-optic gyro (docs/SLAM.md "Heading from a fibre-optic gyro"): with gyro events and
+  // use_gyro, the heading is the gyro's (gyro_heading.hpp); roll and pitch stay the IMU's.
+  // Without gyro events nothing changes. The noise figures set the DR odometry factors'
+  // heading sigma in the pose graph (heading_sigma_rad).
+  bool use_gyro = true;
+  GyroHeadingConfig gyro;                    // mounting T_V_gyro and latitude_deg
+  double gyro_arw_deg_per_sqrt_h = 0.012;    // angle random walk (DSP-1760 datasheet)
+  double gyro_bias_dph = 0.05;               // bias (in-run stability) the heading may drift by
 };
 
 struct DrCounts {
@@ -41,6 +52,7 @@ struct DrCounts {
   size_t dvl_too_fast = 0;    // |v| > max_speed_mps
   size_t dvl_before_imu = 0;  // skipped: no orientation known yet
   size_t imu_nonfinite = 0;   // IMU readings skipped: NaN / inf orientation
+  GyroCounts gyro;            // fibre-optic gyro samples used, skipped, gaps bridged
   size_t dropouts = 0;        // number of gaps longer than hold_s without a good reading
   // Each dropout: (last good DVL stamp, next good DVL stamp, or the last DVL stamp seen
   // while the dropout is still open).
@@ -54,6 +66,13 @@ class DeadReckoning {
   void add(const ImuReading& r);
   void add(const DvlReading& r);
   void add(const DepthReading& r);
+  void add(const GyroReading& r);
+
+  // True once the heading comes from a fibre-optic gyro.
+  bool gyro_heading() const { return config_.use_gyro && gyro_.active(); }
+  // The heading's standard deviation accumulated from a to b by the gyro (angle random walk
+  // and bias over b - a); nullopt when the heading is not the gyro's.
+  std::optional<double> heading_sigma_rad(Time a, Time b) const;
 
   // T_W_V at t: linear interpolation of translation and slerp of rotation between the
   // neighbouring DR states (one per DVL reading). An error outside [first_time, last_time].
@@ -70,7 +89,8 @@ class DeadReckoning {
     Time stamp;
     SE3 T_W_V;
   };
-  Quat orientation_at(Time t) const;  // IMU slerp, held at the ends
+  Quat orientation_at(Time t) const;      // the IMU's, with the gyro's heading when there is one
+  Quat imu_orientation_at(Time t) const;  // IMU slerp, held at the ends
   double z_at(Time t) const;          // -depth, linear, held at the ends; 0 before any depth
                                       // (states made then are fixed by the first reading)
 
@@ -82,6 +102,7 @@ class DeadReckoning {
   Time imu_last_;
   bool have_filter_ = false;
   bool rates_seen_ = false;                     // some reading had non-zero gyro rates
+  GyroHeading gyro_;
   std::vector<std::pair<Time, double>> depth_;  // recent depth readings (pruned)
   Vec2 xy_ = Vec2::Zero();
   Vec3 v_W_prev_ = Vec3::Zero();   // W velocity used at the previous state

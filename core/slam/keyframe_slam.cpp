@@ -83,8 +83,12 @@ size_t KeyframeSlam::accepted_loop_closures() const {
 }
 
 int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
-                               std::vector<Eigen::Vector2d> planar_points_V) {
+                               std::vector<Eigen::Vector2d> planar_points_V,
+                               std::optional<double> dr_heading_sigma_rad) {
   const int id = static_cast<int>(keyframes_.size());
+  sigma_dr_ = config_.sigma_odometry;
+  if (dr_heading_sigma_rad)
+    sigma_dr_.z() = std::max(*dr_heading_sigma_rad, config_.gyro_heading_sigma_min_deg * kDegToRad);
   Keyframe kf;
   kf.id = id;
   kf.stamp = stamp;
@@ -177,7 +181,7 @@ void KeyframeSlam::sequential_match(int id) {
   const auto target = gate_to_sonar_view(aggregate(targets, prev), T_dr_expected.inverse(),
                                          gate_range_m(), gate_fov_deg(), config_.sonar_x_m);
   const auto source = seen_from(cur.cloud_V, poses_[static_cast<size_t>(prev)] * T_dr_expected, targets);
-  Factor f{FactorKind::kOdometryDr, prev, id, T_dr, config_.sigma_odometry, true, "dead reckoning"};
+  Factor f{FactorKind::kOdometryDr, prev, id, T_dr, sigma_dr_, true, "dead reckoning"};
   if (source.size() < config_.ssm_min_points || target.size() < config_.ssm_min_points) {
     f.reason = "dead reckoning: too few points for icp";
   } else {
@@ -191,7 +195,7 @@ void KeyframeSlam::sequential_match(int id) {
       // ICP and DR measure the same motion: a disagreement beyond their joint noise is a
       // scan-match failure (a slide along a wall, a viewpoint-dependent outline). Directions
       // the fit does not observe carry a large ICP variance, so they are not judged.
-      const Eigen::Matrix3d joint = covariance(config_.sigma_odometry) + m.covariance();
+      const Eigen::Matrix3d joint = covariance(sigma_dr_) + m.covariance();
       const Eigen::Vector3d d(diff.x, diff.y, diff.theta);
       close = squared_mahalanobis(d, joint) <= config_.ssm_max_mahalanobis;
     }
@@ -215,7 +219,7 @@ void KeyframeSlam::sequential_match(int id) {
     // DR and the sonar are independent measurements of the same motion: keep both, so a
     // biased scan match (a wall seen end-on, a hull outline that changes with viewpoint)
     // is weighed against DR instead of replacing it (docs/SLAM.md "SSM and DR together").
-    factors_.push_back({FactorKind::kOdometryDr, prev, id, T_dr, config_.sigma_odometry, true,
+    factors_.push_back({FactorKind::kOdometryDr, prev, id, T_dr, sigma_dr_, true,
                         "dead reckoning (beside icp)"});
   }
   // The motion prev -> id as the graph knows it (PCM's odometry chain): ICP and the DR

@@ -7,6 +7,7 @@
 // Deterministic; not thread-safe.
 #include <cstddef>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -70,6 +71,9 @@ struct SlamConfig {
   // SPEC §5 says 0.2, 0.2, 0.02 (sonar-SLAM's vehicle); these match the DVL/IMU of SPEC §10 over
   // one keyframe interval (docs/SLAM.md "Noise models").
   Eigen::Vector3d sigma_odometry{0.05, 0.05, 0.005};
+  // With a fibre-optic gyro the DR factor's heading sigma is what the gyro accumulated
+  // between the keyframes (add_keyframe's dr_heading_sigma_rad), at least this.
+  double gyro_heading_sigma_min_deg = 0.01;
   Eigen::Vector3d sigma_icp{0.1, 0.1, 0.01};
   // Loop-closure factors (SPEC: the ICP noise above). A loop match between views minutes
   // apart is less certain than a sequential one (docs/SLAM.md "Noise models").
@@ -155,7 +159,11 @@ class KeyframeSlam {
   // Adds a keyframe (SSM vs the previous keyframes, NSSM + PCM, warm-started re-solve of
   // the whole graph when a loop closure joined it, of the new pose alone otherwise).
   // planar_points_V: horizontal-sonar detections in V with elevation 0 (x, y). Returns its id.
-  int add_keyframe(Time stamp, const SE3& T_W_V_dr, std::vector<Eigen::Vector2d> planar_points_V);
+  // dr_heading_sigma_rad: the DR heading's sigma since the previous keyframe when the
+  // heading comes from a fibre-optic gyro (DeadReckoning::heading_sigma_rad); nullopt keeps
+  // sigma_odometry's.
+  int add_keyframe(Time stamp, const SE3& T_W_V_dr, std::vector<Eigen::Vector2d> planar_points_V,
+                   std::optional<double> dr_heading_sigma_rad = std::nullopt);
 
   const std::vector<Keyframe>& keyframes() const { return keyframes_; }
   const std::vector<Factor>& factors() const { return factors_; }
@@ -200,6 +208,7 @@ class KeyframeSlam {
   std::vector<int> pcm_queue_;             // factor indices of the last loop candidates
   PoseGraphSummary last_solve_;
   double heading_drift_rad_s_ = 0.0;
+  Eigen::Vector3d sigma_dr_ = Eigen::Vector3d::Zero();  // the newest keyframe's DR factor sigma
   int heading_link_anchor_ = 0;            // the keyframe the next heading link starts from
 };
 

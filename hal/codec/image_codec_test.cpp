@@ -65,7 +65,7 @@ TEST_CASE("codec: PNG encoding gives OpenCV's bytes, and both decoders give the 
   }
 }
 
-TEST_CASE("codec: JPEG encoding gives OpenCV's bytes at each quality; decoding gives its pixels", "[codec]") {
+TEST_CASE("codec: JPEG encoding gives OpenCV's bytes at each quality, decoding gives its pixels", "[codec]") {
   for (int type : {CV_8UC1, CV_8UC3}) {
     for (int quality : {10, 80, 95, 100}) {
       CAPTURE(type, quality);
@@ -135,7 +135,7 @@ TEST_CASE("codec: bad input is refused with an error naming its source", "[codec
   }
 }
 
-TEST_CASE("codec: files are written whole and read back; a path that cannot be written is named", "[codec]") {
+TEST_CASE("codec: files are written whole and read back, a path that cannot be written is named", "[codec]") {
   const auto dir = std::filesystem::temp_directory_path() / "orthosonar_codec_test";
   std::filesystem::create_directories(dir);
   const cv::Mat m = test_image(30, 40, CV_8UC3, 11);

@@ -132,7 +132,7 @@ TEST_CASE("PLY points round trip exactly, empty too, and keep the map.ply bytes"
   CHECK(empty->empty());
 }
 
-TEST_CASE("PLY points carry named float properties after x y z; bad names and counts are errors", "[hal]") {
+TEST_CASE("PLY points carry named float properties after x y z, bad names and counts are errors", "[hal]") {
   const std::vector<Eigen::Vector3f> pts = {{1, 2, 3}, {-0.5f, 0.25f, 7}};
   const std::string path = mesh_io_out_dir() + "/points_scalars.ply";
   REQUIRE(write_ply_points(pts, {{"distance_m", {0.5f, 2.0f}}, {"range_m", {10.0f, 20.5f}}}, "a cloud", path).ok());

@@ -27,6 +27,9 @@ struct Scene {
   std::vector<Waypoint> route;      // default route at vehicle depth; followed cyclically
   double vehicle_depth_m = 3.0;     // positive down
   double seafloor_depth_m = 9.0;    // nominal, positive down
+  // Where on Earth (degrees north): the Earth rate a fibre-optic gyro senses, sin(latitude)
+  // of it about the vertical. Default the authors' 40.706 (paper §VI, their gyro node).
+  double latitude_deg = 40.706;
   // Where the scene came from: the built-in name or "file:<absolute yaml path>" (fixture
   // metadata records portable_origin(), without the folder); for a scene rebuilt from a
   // fixture's embedded files, the origin recorded there.

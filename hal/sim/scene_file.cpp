@@ -97,6 +97,9 @@ Result<Scene> load(const YAML::Node& root, const SceneInputs& in) {
   if (root["seafloor_depth_m"]) s.seafloor_depth_m = root["seafloor_depth_m"].as<double>();
   if (!std::isfinite(s.vehicle_depth_m) || !std::isfinite(s.seafloor_depth_m))
     return Error{"vehicle_depth_m and seafloor_depth_m must be finite"};
+  if (root["latitude_deg"]) s.latitude_deg = root["latitude_deg"].as<double>();
+  if (!(s.latitude_deg >= -90.0 && s.latitude_deg <= 90.0))
+    return Error{"latitude_deg: " + std::to_string(s.latitude_deg) + " is not a latitude in [-90, 90] degrees"};
   if (!(s.vehicle_depth_m < s.seafloor_depth_m))
     return Error{"vehicle_depth_m: " + std::to_string(s.vehicle_depth_m) + " m is not above the seafloor (seafloor_depth_m: " +
                  std::to_string(s.seafloor_depth_m) + " m): the mission would run under the seabed"};

@@ -40,6 +40,37 @@ SonarHead oculus_m1200d_2100khz() { return SonarHead{2.1e6, 60.0, 12.0, 0.4, 512
 
 const char* profile_name(SonarProfile p) { return p == SonarProfile::kField ? "field" : "clean"; }
 
+const char* nav_profile_name(NavProfile p) {
+  switch (p) {
+    case NavProfile::kPaper: return "paper";
+    case NavProfile::kConsumer: return "consumer";
+    case NavProfile::kAhrs: break;
+  }
+  return "ahrs";
+}
+
+Result<NavProfile> parse_nav_profile(const std::string& s) {
+  if (s == "ahrs") return NavProfile::kAhrs;
+  if (s == "paper") return NavProfile::kPaper;
+  if (s == "consumer") return NavProfile::kConsumer;
+  return Error{"unknown navigation profile '" + s + "' (paper, ahrs, consumer)"};
+}
+
+void apply_nav_profile(NavConfig& n, NavProfile p) {
+  const NavConfig base;  // ahrs: the drifting AHRS as every mission before the profiles had it
+  n.imu_yaw_bias_rate_dps = base.imu_yaw_bias_rate_dps;
+  n.imu_yaw_bias_walk_deg_per_sqrt_s = base.imu_yaw_bias_walk_deg_per_sqrt_s;
+  n.gyro_rate_hz = 0.0;
+  n.gyro_rates = base.gyro_rates;
+  n.gyro_arw_deg_per_sqrt_h = base.gyro_arw_deg_per_sqrt_h;
+  n.gyro_bias_dph = base.gyro_bias_dph;
+  switch (p) {
+    case NavProfile::kAhrs: break;
+    case NavProfile::kPaper: n.gyro_rate_hz = 250.0; break;  // the authors' 250 Hz delta angles
+    case NavProfile::kConsumer: n.imu_yaw_bias_rate_dps = 0.05; break;  // 3 deg/min
+  }
+}
+
 Result<SonarProfile> parse_profile(const std::string& s) {
   if (s == "field") return SonarProfile::kField;
   if (s == "clean") return SonarProfile::kClean;
@@ -217,7 +248,11 @@ Table nav_table(NavConfig& n) {
           {"imu_yaw_bias_rate_dps", kKeys.real(n.imu_yaw_bias_rate_dps, -10.0, 10.0)},
           {"imu_gyro_sigma_dps", kKeys.real(n.imu_gyro_sigma_dps, 0.0, 100.0)},
           {"imu_gyro_bias_dps", kKeys.real(n.imu_gyro_bias_dps, 0.0, 100.0)},
-          {"depth_sigma_m", kKeys.real(n.depth_sigma_m, 0.0, 100.0)}};
+          {"depth_sigma_m", kKeys.real(n.depth_sigma_m, 0.0, 100.0)},
+          {"gyro_rate_hz", kKeys.real(n.gyro_rate_hz, 0.0, 1000.0)},
+          {"gyro_rates", kKeys.boolean(n.gyro_rates)},
+          {"gyro_arw_deg_per_sqrt_h", kKeys.real(n.gyro_arw_deg_per_sqrt_h, 0.0, 100.0)},
+          {"gyro_bias_dph", kKeys.real(n.gyro_bias_dph, 0.0, 3600.0)}};
 }
 
 Table root_sim_table(SimConfig& c) {
@@ -238,8 +273,17 @@ Table root_sim_table(SimConfig& c) {
                                    apply_profile(c.sonar, c.profile);
                                    return true;
                                  })},
+          {"nav_profile", kKeys.choice("paper, ahrs, consumer",
+                                     [&c](const std::string& v) {
+                                       auto p = parse_nav_profile(v);
+                                       if (!p) return false;
+                                       c.nav_profile = *p;
+                                       apply_nav_profile(c.nav, c.nav_profile);
+                                       return true;
+                                     })},
           {"T_V_h", kKeys.pose(c.T_V_h)},
           {"T_V_v", kKeys.pose(c.T_V_v)},
+          {"T_V_gyro", kKeys.pose(c.T_V_gyro)},
           {"device_id_h", kKeys.integer(c.device_id_h, 0, 4294967295LL)},
           {"device_id_v", kKeys.integer(c.device_id_v, 0, 4294967295LL)},
           {"render_threads", kKeys.integer(c.render_threads, 1, 64)},
@@ -274,8 +318,9 @@ Status apply_document(const std::string& yaml_text, SimConfig& c) {
   };
   // Order, whatever the file's: the profile (the keys below refine it), the other top-level
   // keys, then sonar (vertical_mode, the keys of both heads, then each head's own), vehicle, nav.
-  if (Status s = kKeys.apply(root, top, "", only({"profile"})); !s.ok()) return s;
-  if (Status s = kKeys.apply(root, top, "", all_but({"profile", "sonar", "vehicle", "nav"})); !s.ok()) return s;
+  if (Status s = kKeys.apply(root, top, "", only({"profile", "nav_profile"})); !s.ok()) return s;
+  if (Status s = kKeys.apply(root, top, "", all_but({"profile", "nav_profile", "sonar", "vehicle", "nav"})); !s.ok())
+    return s;
   if (const YAML::Node sonar = root["sonar"]) {
     const Table t = sonar_table(trial.sonar);
     if (Status s = kKeys.apply(sonar, t, "sonar", only({"vertical_mode"})); !s.ok()) return s;
@@ -353,6 +398,9 @@ Status validate(const SimConfig& config) {
   if (c.duration_s * c.nav.imu_rate_hz > kSimMaxSamples)
     return Error{"sim config: 'duration_s' x 'nav.imu_rate_hz' = " + config::number_text(c.duration_s * c.nav.imu_rate_hz) +
                  " IMU samples exceeds " + config::number_text(kSimMaxSamples)};
+  if (c.duration_s * c.nav.gyro_rate_hz > kSimMaxSamples)
+    return Error{"sim config: 'duration_s' x 'nav.gyro_rate_hz' = " + config::number_text(c.duration_s * c.nav.gyro_rate_hz) +
+                 " gyro samples exceeds " + config::number_text(kSimMaxSamples)};
   return Status::Ok();
 }
 

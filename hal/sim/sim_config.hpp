@@ -129,16 +129,34 @@ struct NavConfig {
   double imu_gyro_bias_dps = 0.003;    // constant gyro bias per axis, drawn N(0, this) per mission
                                        // (a MEMS AHRS's ~10 deg/h in-run bias stability)
   double depth_sigma_m = 0.02;
+  // Fibre-optic gyro (the paper's KVH DSP-1760, docs/SCENES.md "Navigation profiles"):
+  // delta angles (or rates) about its own axes at gyro_rate_hz, with the Earth's rotation
+  // at the scene's latitude in them. 0 = no gyro (profiles ahrs and consumer).
+  double gyro_rate_hz = 0.0;
+  bool gyro_rates = false;                     // false: delta angles (rad), as the authors configured it
+  double gyro_arw_deg_per_sqrt_h = 0.012;      // angle random walk (datasheet: <= 0.012 deg/sqrt(h))
+  double gyro_bias_dph = 0.05;                 // constant bias per axis, drawn N(0, this) per mission
 };
+
+// Navigation profiles: named sets of the nav.* values above (YAML `nav_profile`, applied
+// before the nav keys, which refine it). paper: the paper's vehicle, the VN-100 AHRS plus
+// the DSP-1760 FOG at 250 Hz delta angles; ahrs: the drifting AHRS alone (the defaults of
+// NavConfig); consumer: a consumer-grade heading (3 deg/min drift, docs/CONFIG.md).
+enum class NavProfile { kAhrs, kPaper, kConsumer };
+const char* nav_profile_name(NavProfile p);
+Result<NavProfile> parse_nav_profile(const std::string& s);
+void apply_nav_profile(NavConfig& n, NavProfile p);
 
 struct SimConfig {
   SonarProfile profile = SonarProfile::kField;  // what apply_profile gave `sonar` (YAML: profile)
+  NavProfile nav_profile = NavProfile::kAhrs;   // what apply_nav_profile gave `nav` (YAML: nav_profile)
   double duration_s = 60.0;
   uint64_t seed = 1;                   // noise seed (scene geometry has its own seed)
   Resolution resolution = Resolution::kFull;
   bool labels = false;                 // emit SonarLabels per ping
   SE3 T_V_h = se3_from_xyz_rpy(0.35, 0.0, 0.0, 0.0, 0.0, 0.0);
   SE3 T_V_v = se3_from_xyz_rpy(0.35, 0.0, -0.10, std::numbers::pi / 2.0, 0.0, 0.0);
+  SE3 T_V_gyro = SE3::Identity();  // the gyro's mounting (its rotation R_V_G is what matters)
   uint32_t device_id_h = 101;
   uint32_t device_id_v = 102;
   int render_threads = 1;              // pings rendered ahead in parallel (same bytes for any count)

@@ -15,7 +15,10 @@ namespace orthosonar::sim {
 namespace {
 
 constexpr uint64_t kImuStream = 0x494d55ull, kBiasStream = 0x42494153ull, kDvlStream = 0x44564cull,
-                   kDepthStream = 0x44455054ull, kGyroBiasStream = 0x47594230ull;
+                   kDepthStream = 0x44455054ull, kGyroBiasStream = 0x47594230ull, kFogStream = 0x464f47ull,
+                   kFogBiasStream = 0x464f4742ull;
+// The Earth's rotation rate, 15.04107 deg per hour (one turn per sidereal day).
+constexpr double kEarthRateRps = 15.04107 / 3600.0 * std::numbers::pi / 180.0;
 
 // A regular stream of stamps: offset + period * i for i < count.
 struct Stream {
@@ -47,6 +50,7 @@ struct Simulator::Impl {
   std::array<uint64_t, kChannelCount> truth_next{};  // per sensor stream: first stamp without truth
   std::vector<double> yaw_bias_rad;                  // per IMU sample
   Vec3 gyro_bias_rps = Vec3::Zero();                 // constant per mission
+  Vec3 fog_bias_rps = Vec3::Zero();                  // the fibre-optic gyro's, constant per mission
   std::array<std::optional<SonarLabels>, 2> pending_labels;
   std::unique_ptr<PingPrefetch> prefetch;
 
@@ -118,10 +122,41 @@ struct Simulator::Impl {
         const double depth = -trajectory->at(t).p_W.z() + rng.normal(0, cfg.nav.depth_sigma_m);
         return DepthReading{t, static_cast<double>(static_cast<float>(depth))};
       }
+      case Channel::kGyro: return fog_reading(t, i);
       case Channel::kTruthPose: break;
     }
     const VehicleState s = trajectory->at(t);
     return TruthPose{t, s.p_W, Quat(s.T_W_V().rotation())};
+  }
+
+  // The fibre-optic gyro's sample at t: the rotation of V since the previous sample (the
+  // rotation vector of R(t - T)^T R(t)) plus the Earth's rotation seen in V (W is east,
+  // north, up: Earth rate (0, cos lat, sin lat)), its bias and angle random walk, in the
+  // gyro's frame G; as rates (divided by T) when the device is configured for rates.
+  GyroReading fog_reading(Time t, uint64_t i) const {
+    const auto& n = cfg.nav;
+    const Time period = streams[static_cast<size_t>(Channel::kGyro)].period;
+    const double T = period.seconds();
+    const VehicleState a = trajectory->at(t - period), b = trajectory->at(t);
+    const Eigen::Matrix3d Ra = a.T_W_V().rotation(), Rb = b.T_W_V().rotation();
+    const Eigen::AngleAxisd turn(Ra.transpose() * Rb);
+    Vec3 d_V = turn.angle() * turn.axis();
+    const double lat = scene.latitude_deg * std::numbers::pi / 180.0;
+    const Vec3 earth_W(0.0, std::cos(lat) * kEarthRateRps, std::sin(lat) * kEarthRateRps);
+    d_V += Rb.transpose() * earth_W * T;
+    Rng rng(derive_seed(cfg.seed, kFogStream, i));
+    const double arw = n.gyro_arw_deg_per_sqrt_h * std::numbers::pi / 180.0 / 60.0;  // rad/sqrt(s)
+    const double s = arw * std::sqrt(T);
+    const Eigen::Matrix3d R_V_G = cfg.T_V_gyro.rotation();
+    Vec3 d_G = R_V_G.transpose() * d_V + fog_bias_rps * T + Vec3(rng.normal(0, s), rng.normal(0, s), rng.normal(0, s));
+    GyroReading g;
+    g.stamp = t;
+    g.is_rate = n.gyro_rates;
+    g.value_G = n.gyro_rates ? Vec3(d_G / T) : d_G;
+    g.valid = true;
+    g.sequence = static_cast<uint8_t>(i % 128);
+    g.temperature_c = 25.0;
+    return g;
   }
 
   // The stamp of the next truth pose: the earliest sensor stamp not yet covered.
@@ -153,6 +188,9 @@ Simulator::Simulator(Scene scene, SimConfig config) : impl_(std::make_unique<Imp
   s[static_cast<size_t>(Channel::kImu)] = make_stream(0.0, n.imu_rate_hz, m.duration);
   s[static_cast<size_t>(Channel::kDvl)] = make_stream(n.dvl_offset_s, n.dvl_rate_hz, m.duration);
   s[static_cast<size_t>(Channel::kDepth)] = make_stream(n.depth_offset_s, n.depth_rate_hz, m.duration);
+  // The gyro's first sample closes its first interval, one period in.
+  if (n.gyro_rate_hz > 0.0)
+    s[static_cast<size_t>(Channel::kGyro)] = make_stream(1.0 / n.gyro_rate_hz, n.gyro_rate_hz, m.duration);
   s[static_cast<size_t>(Channel::kLabelsHorizontal)] =
       make_stream(n.ping_offset_s, n.ping_rate_hz, m.duration, config.labels);
   s[static_cast<size_t>(Channel::kLabelsVertical)] =
@@ -171,6 +209,11 @@ Simulator::Simulator(Scene scene, SimConfig config) : impl_(std::make_unique<Imp
     Rng rng(derive_seed(config.seed, kGyroBiasStream, 0));
     const double sb = n.imu_gyro_bias_dps * kRadPerDeg;
     m.gyro_bias_rps = Vec3(rng.normal(0, sb), rng.normal(0, sb), rng.normal(0, sb));
+  }
+  if (n.gyro_rate_hz > 0.0) {
+    Rng rng(derive_seed(config.seed, kFogBiasStream, 0));
+    const double sb = n.gyro_bias_dph / 3600.0 * std::numbers::pi / 180.0;
+    m.fog_bias_rps = Vec3(rng.normal(0, sb), rng.normal(0, sb), rng.normal(0, sb));
   }
   if (config.render_threads > 1) {
     m.prefetch = std::make_unique<PingPrefetch>(
@@ -236,6 +279,12 @@ std::map<std::string, std::string> Simulator::metadata() const {
   md["software_version"] = kVersion;
   md["labels"] = m.cfg.labels ? "true" : "false";
   md["profile"] = profile_name(m.cfg.profile);
+  md["nav_profile"] = nav_profile_name(m.cfg.nav_profile);
+  if (m.cfg.nav.gyro_rate_hz > 0.0) {
+    md["T_V_gyro"] = format_pose6(m.cfg.T_V_gyro);
+    std::snprintf(buf, sizeof buf, "%.17g", m.scene.latitude_deg);
+    md["latitude_deg"] = buf;
+  }
   return md;
 }
 

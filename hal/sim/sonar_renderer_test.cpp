@@ -319,7 +319,7 @@ TEST_CASE("field profile: echo loss with range is absorption plus spreading minu
   CHECK(absorption_db_per_m(1.2e6, 10, 0, 8, 0) < absorption_db_per_m(1.2e6, 10, 35, 8, 0));
 }
 
-TEST_CASE("field profile: the same seed gives the same bytes; profiles differ", "[hal]") {
+TEST_CASE("field profile: the same seed gives the same bytes, profiles differ", "[hal]") {
   const Scene scene = *builtin_scene("marina1", 1);
   const SE3 T = se3_from_xyz_rpy(-21, 7, -scene.vehicle_depth_m, 0, 0, std::numbers::pi / 2.0);
   for (const SonarProfile p : {SonarProfile::kClean, SonarProfile::kField}) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -371,7 +372,8 @@ Result<RunConfig> effective_config(const std::map<std::string, std::string>& met
   // 2. the fixture's recorded values
   RunConfig from_fixture = c;
   for (const auto& [key, target] : {std::pair<const char*, SE3*>{"T_V_h", &from_fixture.pipeline.fusion.T_V_h},
-                                    std::pair<const char*, SE3*>{"T_V_v", &from_fixture.pipeline.fusion.T_V_v}}) {
+                                    std::pair<const char*, SE3*>{"T_V_v", &from_fixture.pipeline.fusion.T_V_v},
+                                    std::pair<const char*, SE3*>{"T_V_gyro", &from_fixture.pipeline.dr.gyro.T_V_gyro}}) {
     const auto it = metadata.find(key);
     if (it == metadata.end()) continue;
     const auto pose = config::parse_pose6(it->second);
@@ -379,6 +381,14 @@ Result<RunConfig> effective_config(const std::map<std::string, std::string>& met
       return Error{std::string("fixture metadata '") + key + "' = '" + it->second +
                    "' is not six finite numbers 'x y z roll pitch yaw' (m, rad)"};
     *target = *pose;
+  }
+  if (const auto it = metadata.find("latitude_deg"); it != metadata.end()) {
+    // Where the gyro's mission was (the Earth rate it senses): simulated scenes and imports record it.
+    char* end = nullptr;
+    const double lat = std::strtod(it->second.c_str(), &end);
+    if (it->second.empty() || end != it->second.c_str() + it->second.size() || !(lat >= -90.0 && lat <= 90.0))
+      return Error{"fixture metadata 'latitude_deg' = '" + it->second + "' is not a latitude in [-90, 90] degrees"};
+    from_fixture.pipeline.dr.gyro.latitude_deg = lat;
   }
   apply_mission_start(metadata, from_fixture, attachments);
   note_changes(c, from_fixture, "fixture", src);

@@ -72,6 +72,16 @@ constexpr SchemaDef kLabels{6, "orthosonar_msgs/SonarLabels",
     "uint8[] semantic\n"
     "uint32[] object_id\n" OS_SEP OS_HEADER_DEF};
 
+constexpr SchemaDef kGyro{7, "orthosonar_msgs/Gyro",
+    "# One fibre-optic gyro sample (KVH DSP-1760) in the gyro's own frame: delta angles\n"
+    "# (rad) since the previous sample, or rates (rad/s) when is_rate. Earth's rotation is in it.\n"
+    "std_msgs/Header header\n"
+    "bool status\n"
+    "bool is_rate\n"
+    "geometry_msgs/Vector3 value\n"
+    "uint8 sequence\n"
+    "float64 temperature\n" OS_SEP OS_HEADER_DEF OS_SEP OS_VEC3_DEF};
+
 constexpr int64_t kNsPerS = 1'000'000'000;
 constexpr int64_t kMaxRosStampNs = (int64_t{1} << 32) * kNsPerS;  // exclusive
 
@@ -133,6 +143,7 @@ const SchemaDef& schema_for(Channel c) {
     case Channel::kTruthPose: return kPose;
     case Channel::kLabelsHorizontal:
     case Channel::kLabelsVertical: return kLabels;
+    case Channel::kGyro: return kGyro;
   }
   return kDepth;
 }
@@ -147,6 +158,7 @@ std::string_view frame_id_for(Channel c) {
     case Channel::kDvl: return "vehicle";
     case Channel::kDepth: return "vehicle";
     case Channel::kTruthPose: return "world";
+    case Channel::kGyro: return "gyro";
   }
   return "";
 }
@@ -211,6 +223,12 @@ Status encode(const Event& e, CanonicalWriter& out) {
     out.put_bytes(l->semantic);
     out.put_u32(static_cast<uint32_t>(n));
     for (uint32_t id : l->object_id) out.put_u32(id);
+  } else if (const auto* g = std::get_if<GyroReading>(&e.payload)) {
+    out.put_bool(g->valid);
+    out.put_bool(g->is_rate);
+    put_vec3(g->value_G, out);
+    out.put_u8(g->sequence);
+    out.put_f64(g->temperature_c);
   }
   return {};
 }
@@ -302,6 +320,19 @@ Result<Payload> decode(Channel c, const uint8_t* data, size_t size, uint32_t* he
     l.object_id.resize(no);
     for (auto& id : l.object_id) id = r.u32();
     out = std::move(l);
+  } else if (c == Channel::kGyro) {
+    GyroReading g;
+    g.stamp = stamp;
+    const uint8_t status = r.u8(), is_rate = r.u8();
+    if (r.ok() && (status > 1 || is_rate > 1)) return Error{"gyro field 'status' or 'is_rate' is not a bool"};
+    g.valid = status == 1;
+    g.is_rate = is_rate == 1;
+    g.value_G = get_vec3(r);
+    // Dead reckoning integrates the value into every later heading: NaN would reach them all.
+    if (r.ok() && !g.value_G.allFinite()) return Error{"gyro field 'value' is not finite"};
+    g.sequence = r.u8();
+    g.temperature_c = r.f64();
+    out = g;
   }
   if (!r.ok()) return Error{"message truncated"};
   if (r.remaining() != 0) return Error{"message has " + std::to_string(r.remaining()) + " trailing bytes"};

@@ -14,7 +14,7 @@
 namespace orthosonar::replay::ros1 {
 
 struct SchemaDef {
-  uint16_t id;             // MCAP schema id (1..6; 0 means "no schema" in MCAP)
+  uint16_t id;             // MCAP schema id (1..7; 0 means "no schema" in MCAP)
   std::string_view name;   // e.g. "sensor_msgs/Imu"
   std::string_view text;   // full ros1msg definition including dependencies
 };

@@ -1,0 +1,85 @@
+#include "core/slam/gyro_heading.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace orthosonar::slam {
+namespace {
+
+constexpr int64_t kGyroKeepNs = 10'000'000'000;  // older samples are no longer interpolated
+
+double yaw_of(const Quat& q) { return rpy_from_rotation(q.toRotationMatrix()).z(); }
+
+}  // namespace
+
+GyroHeading::GyroHeading(GyroHeadingConfig config) : config_(std::move(config)) {
+  R_V_G_ = config_.T_V_gyro.rotation();
+  const double lat = config_.latitude_deg * std::numbers::pi / 180.0;
+  earth_W_ = Vec3(0.0, std::cos(lat), std::sin(lat)) * kEarthRateRadPerS;
+}
+
+void GyroHeading::add(const GyroReading& r, const ImuAt& imu_at) {
+  if (!r.valid) {
+    ++counts_.invalid;
+    return;
+  }
+  if (!r.value_G.allFinite()) {
+    ++counts_.nonfinite;
+    return;
+  }
+  if (!yaw_.empty() && r.stamp <= last_) return;  // out of order or repeated: ignore
+  const std::optional<Quat> q_imu = imu_at(r.stamp);
+  if (!q_imu) {
+    ++counts_.before_imu;
+    return;
+  }
+  const Vec3 rpy = rpy_from_rotation(q_imu->toRotationMatrix());
+  if (yaw_.empty()) {
+    // The first sample's increment covers time before any attitude: start from the IMU.
+    yaw_.emplace_back(r.stamp, rpy.z());
+    last_ = r.stamp;
+    ++counts_.used;
+    return;
+  }
+  const Time dt = r.stamp - last_;
+  if (period_ == Time() || dt < period_) period_ = dt;
+  // Delta angles cover one sample period; rates are taken over the whole interval unless
+  // samples are missing, then over one period too.
+  const bool gap = dt.ns() > period_.ns() + period_.ns() / 2;
+  const Time covered = gap ? period_ : dt;
+  const double T = covered.seconds();
+  Vec3 d_V = R_V_G_ * (r.is_rate ? Vec3(r.value_G * T) : r.value_G);
+  const double prev = yaw_.back().second;
+  const Eigen::Matrix3d R_W_V = se3_from_xyz_rpy(0, 0, 0, rpy.x(), rpy.y(), prev).rotation();
+  d_V -= R_W_V.transpose() * earth_W_ * T;
+  const double phi = rpy.x(), c_theta = std::max(std::cos(rpy.y()), 1e-3);
+  double d_yaw = (std::sin(phi) * d_V.y() + std::cos(phi) * d_V.z()) / c_theta;
+  if (gap) {
+    ++counts_.gaps;
+    const Time gap_end = r.stamp - covered;
+    const std::optional<Quat> a = imu_at(last_), b = imu_at(gap_end);
+    if (a && b) d_yaw += wrap_angle(yaw_of(*b) - yaw_of(*a));
+  }
+  yaw_.emplace_back(r.stamp, prev + d_yaw);
+  last_ = r.stamp;
+  ++counts_.used;
+  if (yaw_.size() >= 64) {
+    const Time cutoff = yaw_.back().first - Time::from_ns(kGyroKeepNs);
+    auto it = std::find_if(yaw_.begin(), yaw_.end(), [&](const auto& e) { return e.first >= cutoff; });
+    if (it != yaw_.begin() && it != yaw_.end()) yaw_.erase(yaw_.begin(), it - 1);
+  }
+}
+
+std::optional<double> GyroHeading::yaw_at(Time t) const {
+  if (yaw_.empty()) return std::nullopt;
+  if (t <= yaw_.front().first) return wrap_angle(yaw_.front().second);
+  if (t >= yaw_.back().first) return wrap_angle(yaw_.back().second);
+  auto it = std::upper_bound(yaw_.begin(), yaw_.end(), t, [](Time a, const auto& e) { return a < e.first; });
+  const auto& b = *it;
+  const auto& a = *(it - 1);
+  const double s = static_cast<double>((t - a.first).ns()) / static_cast<double>((b.first - a.first).ns());
+  return wrap_angle(a.second + s * (b.second - a.second));
+}
+
+}  // namespace orthosonar::slam

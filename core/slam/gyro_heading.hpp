@@ -1,0 +1,69 @@
+#pragma once
+// Heading from a fibre-optic gyro (the paper's KVH DSP-1760; the authors' `gyro` node and
+// their dead reckoning's `use_gyro`): the gyro's delta angles (or rates) rotated from its
+// frame G into V by the mounting, the Earth's rotation at the latitude of operation removed
+// (W is east, north, up: Earth rate Ω (0, cos lat, sin lat), seen in V through the current
+// attitude), and the body rotation turned into a heading change with the IMU's roll and
+// pitch (ZYX Euler kinematics: dψ = (sin φ dθy + cos φ dθz) / cos θ). The heading starts
+// from the IMU's at the first usable sample; a FOG holds it to well under 0.1° per hour
+// where the AHRS drifts degrees (docs/SLAM.md "Heading from a fibre-optic gyro").
+//
+// Samples must come in stamp order (SPEC §9). An invalid sample (device status) or a
+// non-finite one is skipped and counted; the rotation of a gap the gyro did not cover
+// (lost or skipped samples: more than half a sample period missing) is taken from the
+// IMU's heading change over it and counted. Not thread-safe.
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "core/events.hpp"
+#include "core/geometry.hpp"
+#include "core/time.hpp"
+
+namespace orthosonar::slam {
+
+// The Earth's rotation rate, 15.04107 deg per hour (one turn per sidereal day), in rad/s.
+inline constexpr double kEarthRateRadPerS = 15.04107 / 3600.0 * 3.14159265358979323846 / 180.0;
+
+struct GyroHeadingConfig {
+  SE3 T_V_gyro = SE3::Identity();  // the gyro's mounting; its rotation R_V_G is used
+  double latitude_deg = 40.706;    // where the vehicle works (the authors' default)
+};
+
+struct GyroCounts {
+  size_t used = 0;         // samples integrated
+  size_t invalid = 0;      // flagged bad by the device
+  size_t nonfinite = 0;    // NaN / inf component
+  size_t before_imu = 0;   // no attitude known yet
+  size_t gaps = 0;         // intervals the gyro did not cover, bridged with the IMU
+  friend bool operator==(const GyroCounts&, const GyroCounts&) = default;
+};
+
+class GyroHeading {
+ public:
+  explicit GyroHeading(GyroHeadingConfig config = {});
+
+  // `imu_at(t)`: the IMU's orientation of V in W at t (held at its ends); nullopt when no
+  // IMU reading has come yet.
+  using ImuAt = std::function<std::optional<Quat>(Time)>;
+  void add(const GyroReading& r, const ImuAt& imu_at);
+
+  bool active() const { return !yaw_.empty(); }
+  // The integrated heading at t (rad, wrapped to (-pi, pi]): linear between samples, held
+  // at the ends; nullopt before the first sample.
+  std::optional<double> yaw_at(Time t) const;
+  const GyroCounts& counts() const { return counts_; }
+
+ private:
+  GyroHeadingConfig config_;
+  Eigen::Matrix3d R_V_G_;
+  Vec3 earth_W_;
+  GyroCounts counts_;
+  std::vector<std::pair<Time, double>> yaw_;  // (stamp, unwrapped heading), recent (pruned)
+  Time last_;                                 // the last sample integrated or started from
+  Time period_;                               // the shortest interval seen: the sample period
+};
+
+}  // namespace orthosonar::slam
