@@ -64,6 +64,16 @@ inline Payload any_payload(Channel c, Time t) {
     case Channel::kTruthPose: return TruthPose{t, any_vec3(), any_quat()};
     case Channel::kLabelsHorizontal: return any_labels(SonarMount::kHorizontal, t);
     case Channel::kLabelsVertical: return any_labels(SonarMount::kVertical, t);
+    case Channel::kGyro: {
+      GyroReading g;
+      g.stamp = t;
+      g.value_G = any_vec3();
+      g.is_rate = *rc::gen::arbitrary<bool>();
+      g.valid = *rc::gen::arbitrary<bool>();
+      g.sequence = *rc::gen::arbitrary<uint8_t>();
+      g.temperature_c = any_double();
+      return g;
+    }
   }
   return DepthReading{t, 0.0};
 }
