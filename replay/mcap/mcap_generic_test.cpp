@@ -390,6 +390,7 @@ TEST_CASE("visit_messages reads our fixtures: every channel, ros1, in file order
   const std::string path = (dir / "fixture.mcap").string();
   SyntheticOptions so;
   so.duration_ns = 1'500'000'000;
+  so.gyro_rate_hz = 100.0;  // every channel
   const auto events = synthetic_events(3, so);
   REQUIRE(testing::write_fixture(path, events, {{"scene", "harbor"}}).ok());
   const Visited v = visit(path);
