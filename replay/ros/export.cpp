@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -178,6 +179,14 @@ Result<Value> message_for(const Event& e, const ExportOptions& o, std::vector<ui
   if (const auto* r = std::get_if<TruthPose>(&e.payload))
     return msg({{"header", header(e.sequence, ns, frame)},
                 {"pose", msg({{"position", vec3(r->p_W)}, {"orientation", quat(r->q_W_V)}})}});
+  if (const auto* r = std::get_if<GyroReading>(&e.payload)) {
+    // kvh_gyro/gyro: delta angles only (GyroDeltas made rates into them); the device's
+    // packet counter and temperature have no field.
+    if (r->is_rate) return Error{"a gyro rate reached the writer unconverted"};
+    return msg({{"header", header(e.sequence, ns, "gyro")},
+                {"status", integer(r->valid ? 1 : 0)},
+                {"delta", numbers({r->value_G.x(), r->value_G.y(), r->value_G.z()}, false)}});
+  }
   return Error{"no ROS type for this event"};
 }
 
@@ -208,9 +217,67 @@ Plan plan_for(Channel c, const ExportOptions& o) {
       return std_types ? Plan{"/pressure", "sensor_msgs/FluidPressure", Role::kDepth}
                        : Plan{"/bar30/depth/raw", "bar30_depth/Depth", Role::kDepth};
     case Channel::kTruthPose: return Plan{"/orthosonar/truth", "geometry_msgs/PoseStamped", Role::kTruth};
+    // The authors' type with either sonar type: no common ROS type carries delta angles.
+    case Channel::kGyro: return Plan{"/gyro", "kvh_gyro/gyro", Role::kGyro};
     default: return Plan{"", "", Role::kTruth};
   }
 }
+
+// Gyro readings as kvh_gyro/gyro holds them: delta angles. A rate (rad/s: a DSP-1760
+// configured for rates) becomes the angle turned over the interval it covers, by dead
+// reckoning's rule (core/slam/gyro_heading): the time since the previous gyro reading, or
+// one sample period (the shortest interval so far) after a gap of more than 1.5 periods,
+// whose lost samples are not in it. The first reading has no previous one: it takes the
+// interval to the second and waits for it. Readings come in stamp order; delta angles pass
+// unchanged (only their stamps count).
+class GyroDeltas {
+ public:
+  // The readings ready to write after `e` (none while the first, a rate, waits).
+  Result<std::vector<Event>> push(const Event& e) {
+    std::vector<Event> out;
+    if (pending_) {
+      const int64_t dt = e.stamp.ns() - pending_->stamp.ns();
+      if (dt <= 0) return Error{"gyro readings " + std::to_string(pending_->sequence) + " and " +
+                                std::to_string(e.sequence) + " share a stamp: no interval to make a rate an angle"};
+      out.push_back(as_delta(*pending_, dt));
+      pending_.reset();
+    }
+    if (last_ns_) {
+      const int64_t dt = e.stamp.ns() - *last_ns_;
+      if (dt <= 0 && std::get<GyroReading>(e.payload).is_rate)
+        return Error{"gyro reading " + std::to_string(e.sequence) + " has the stamp of the one before it: "
+                     "no interval to make its rate an angle"};
+      if (dt > 0 && (period_ns_ == 0 || dt < period_ns_)) period_ns_ = dt;
+      const int64_t covered = dt > period_ns_ + period_ns_ / 2 ? period_ns_ : dt;
+      out.push_back(as_delta(e, covered));
+    } else if (std::get<GyroReading>(e.payload).is_rate) {
+      pending_ = e;
+    } else {
+      out.push_back(e);
+    }
+    last_ns_ = e.stamp.ns();
+    return out;
+  }
+  // At the end of the fixture: a lone rate reading has no interval.
+  Status finish() const {
+    if (pending_) return Error{"gyro reading " + std::to_string(pending_->sequence) +
+                               " is a rate and the fixture's only gyro reading: no interval to make it an angle"};
+    return {};
+  }
+
+ private:
+  static Event as_delta(Event e, int64_t covered_ns) {
+    auto& g = std::get<GyroReading>(e.payload);
+    if (g.is_rate) {
+      g.value_G = g.value_G * (static_cast<double>(covered_ns) * 1e-9);
+      g.is_rate = false;
+    }
+    return e;
+  }
+  std::optional<Event> pending_;
+  std::optional<int64_t> last_ns_;
+  int64_t period_ns_ = 0;
+};
 
 // "pkg/Type" -> "pkg/msg/Type" (rosbag2's schema names).
 std::string ros2_name(const std::string& type) {
@@ -237,6 +304,17 @@ Result<ExportReport> export_fixture(const std::string& fixture, const std::strin
   if (o.jpeg_quality < 1 || o.jpeg_quality > 100) return Error{"JPEG quality " + std::to_string(o.jpeg_quality) + " (1..100)"};
   const rosmsg::Dialect dialect = bag ? rosmsg::Dialect::kRos1 : rosmsg::Dialect::kRos2;
   const rosmsg::Encoding encoding = bag ? rosmsg::Encoding::kRos1 : rosmsg::Encoding::kCdr;
+
+  // The survey's latitude (the gyro's Earth rate) goes to the companion topics.yaml: checked first.
+  std::optional<double> latitude;
+  if (const auto& md = (*src)->metadata(); md.count("latitude_deg")) {
+    const std::string& text = md.at("latitude_deg");
+    char* end = nullptr;
+    const double lat = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || !(lat >= -90.0 && lat <= 90.0))
+      return Error{fixture + ": metadata 'latitude_deg' = '" + text + "' is not a latitude in [-90, 90] degrees"};
+    latitude = lat;
+  }
 
   const std::string tmp = out + ".partial";
   std::unique_ptr<rosbag::BagWriter> bw;
@@ -269,6 +347,46 @@ Result<ExportReport> export_fixture(const std::string& fixture, const std::strin
   std::map<Channel, Topic> topics;
   std::vector<uint8_t> jpeg;
   std::map<Channel, uint32_t> device_ids;
+  // Writes one event as its topic's message (the topic's connection made on its first).
+  auto emit = [&](const Event& e) -> Status {
+    auto it = topics.find(e.channel);
+    if (it == topics.end()) {
+      const Plan plan = plan_for(e.channel, o);
+      Topic t{plan.topic, plan.type, plan.role, std::nullopt, 0, 0};
+      const std::string text(rosmsg::definition(t.type, dialect));
+      auto schema = rosmsg::Schema::parse(t.type, text, dialect);
+      if (!schema) return Error{"definition of " + t.type + ": " + schema.error().message};
+      t.schema = std::move(*schema);
+      if (bag) {
+        auto id = bw->add_connection(t.name, t.type, rosmsg::md5_of(t.type), text, "/orthosonar_export", false);
+        if (!id) return id.error();
+        t.bag_conn = *id;
+      } else {
+        const uint16_t schema_id = mw->add_schema(ros2_name(t.type), "ros2msg", text);
+        t.mcap_channel = mw->add_channel(schema_id, t.name, "cdr", {});
+      }
+      if (const auto* p = std::get_if<SonarPing>(&e.payload)) device_ids[e.channel] = p->device_id;
+      it = topics.emplace(e.channel, std::move(t)).first;
+    }
+    Topic& t = it->second;
+    auto value = message_for(e, o, jpeg);
+    if (!value)
+      return Error{fixture + ": " + channel_topic(e.channel) + " event " + std::to_string(e.sequence) + ": " +
+                   value.error().message};
+    rosmsg::Writer w(encoding);
+    if (auto s = rosmsg::encode(*t.schema, *value, w); !s)
+      return Error{fixture + ": " + t.name + " (" + t.type + ") event " + std::to_string(e.sequence) + ": " +
+                   s.error().message};
+    const auto& bytes = w.bytes();
+    const auto stamp = static_cast<uint64_t>(e.stamp.ns());
+    Status s = bag ? bw->write(t.bag_conn, stamp, bytes.data(), bytes.size())
+                   : mw->write(t.mcap_channel, static_cast<uint32_t>(e.sequence & 0xffffffffu), stamp, stamp,
+                               bytes.data(), bytes.size());
+    if (!s) return s.error();
+    ++report.messages[t.name];
+    return {};
+  };
+  GyroDeltas gyro;
   for (;;) {
     hal::Pulled pulled = (*src)->next();
     if (pulled.error) return fail(Error{fixture + ": " + pulled.error->message});
@@ -281,42 +399,16 @@ Result<ExportReport> export_fixture(const std::string& fixture, const std::strin
     if (e.stamp.ns() < 0 || e.stamp.ns() >= kMaxRosNs)
       return fail(Error{fixture + ": " + channel_topic(e.channel) + " event " + std::to_string(e.sequence) + ": stamp " +
                         std::to_string(e.stamp.ns()) + " ns is outside the ROS time range"});
-    auto it = topics.find(e.channel);
-    if (it == topics.end()) {
-      const Plan plan = plan_for(e.channel, o);
-      Topic t{plan.topic, plan.type, plan.role, std::nullopt, 0, 0};
-      const std::string text(rosmsg::definition(t.type, dialect));
-      auto schema = rosmsg::Schema::parse(t.type, text, dialect);
-      if (!schema) return fail(Error{"definition of " + t.type + ": " + schema.error().message});
-      t.schema = std::move(*schema);
-      if (bag) {
-        auto id = bw->add_connection(t.name, t.type, rosmsg::md5_of(t.type), text, "/orthosonar_export", false);
-        if (!id) return fail(id.error());
-        t.bag_conn = *id;
-      } else {
-        const uint16_t schema_id = mw->add_schema(ros2_name(t.type), "ros2msg", text);
-        t.mcap_channel = mw->add_channel(schema_id, t.name, "cdr", {});
-      }
-      if (const auto* p = std::get_if<SonarPing>(&e.payload)) device_ids[e.channel] = p->device_id;
-      it = topics.emplace(e.channel, std::move(t)).first;
+    if (e.channel != Channel::kGyro) {
+      if (Status s = emit(e); !s) return fail(s.error());
+      continue;
     }
-    Topic& t = it->second;
-    auto value = message_for(e, o, jpeg);
-    if (!value)
-      return fail(Error{fixture + ": " + channel_topic(e.channel) + " event " + std::to_string(e.sequence) + ": " +
-                        value.error().message});
-    rosmsg::Writer w(encoding);
-    if (auto s = rosmsg::encode(*t.schema, *value, w); !s)
-      return fail(Error{fixture + ": " + t.name + " (" + t.type + ") event " + std::to_string(e.sequence) + ": " +
-                        s.error().message});
-    const auto& bytes = w.bytes();
-    const auto stamp = static_cast<uint64_t>(e.stamp.ns());
-    Status s = bag ? bw->write(t.bag_conn, stamp, bytes.data(), bytes.size())
-                   : mw->write(t.mcap_channel, static_cast<uint32_t>(e.sequence & 0xffffffffu), stamp, stamp,
-                               bytes.data(), bytes.size());
-    if (!s) return fail(s.error());
-    ++report.messages[t.name];
+    auto ready = gyro.push(e);
+    if (!ready) return fail(Error{fixture + ": " + ready.error().message});
+    for (const Event& g : *ready)
+      if (Status s = emit(g); !s) return fail(s.error());
   }
+  if (Status s = gyro.finish(); !s) return fail(Error{fixture + ": " + s.error().message});
   Status s = bag ? bw->close() : mw->close();
   if (!s) return fail(s.error());
   bw.reset();
@@ -330,6 +422,8 @@ Result<ExportReport> export_fixture(const std::string& fixture, const std::strin
     const auto& md = (*src)->metadata();
     if (auto m = md.find("T_V_h"); m != md.end()) map.T_V_h = m->second;
     if (auto m = md.find("T_V_v"); m != md.end()) map.T_V_v = m->second;
+    if (auto m = md.find("T_V_gyro"); m != md.end()) map.T_V_gyro = m->second;
+    map.latitude_deg = latitude;
     for (const auto& [ch, t] : topics) {
       TopicRule r;
       r.topic = t.name;

@@ -7,9 +7,12 @@
 //   --sonar-type projected  the community's: marine_acoustic_msgs/ProjectedSonarImage,
 //                           sensor_msgs/Imu, geometry_msgs/TwistWithCovarianceStamped,
 //                           sensor_msgs/FluidPressure
-// Truth poses go to /orthosonar/truth (geometry_msgs/PoseStamped); labels stay behind.
-// Beside OUT, OUT's stem + ".topics.yaml" maps the written topics back (mounts and device
-// ids included), so `orthosonar import OUT --map that.yaml` restores the fixture's events.
+// Truth poses go to /orthosonar/truth (geometry_msgs/PoseStamped), a fibre-optic gyro's
+// readings to /gyro (the authors' kvh_gyro/gyro, delta angles: rates are made angles over
+// the interval each covers, export.cpp GyroDeltas); labels stay behind.
+// Beside OUT, OUT's stem + ".topics.yaml" maps the written topics back (mounts, the gyro's
+// included, the latitude and device ids), so `orthosonar import OUT --map that.yaml`
+// restores the fixture's events (a gyro reading's packet counter and temperature excepted).
 #include <cstdint>
 #include <map>
 #include <string>

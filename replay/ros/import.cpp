@@ -85,6 +85,7 @@ struct Resolver {
   const TopicMap& map;
   std::map<uint32_t, ChannelState> channels;
   std::map<Role, std::string> role_topic;
+  std::vector<std::string> skipped;  // default topics of optional roles left out, and why
   Status add(uint32_t id, const SrcChannel& s, const std::string& path, bool strict) {
     ChannelState c;
     c.src = s;
@@ -98,9 +99,20 @@ struct Resolver {
         if (!schema) why = "its definition does not parse: " + schema.error().message;
         else c.schema = std::move(*schema);
       }
+      // A default topic of an optional role (a /gyro of some other type, say) is not the
+      // user's choice: it is left out with a warning rather than failing the import.
+      const bool optional = c.rule->from_defaults && std::find(std::begin(kRequiredRoles), std::end(kRequiredRoles),
+                                                                c.rule->role) == std::end(kRequiredRoles);
       if (!why.empty()) {
-        if (strict) return Error{path + ": topic " + s.topic + " (" + std::string(role_name(c.rule->role)) + "): " + why};
+        if (strict && !optional)
+          return Error{path + ": topic " + s.topic + " (" + std::string(role_name(c.rule->role)) + "): " + why};
         c.src.unusable = why;
+        if (strict) {  // its messages are not read
+          std::string w = path + ": topic " + s.topic + " not imported as the " + std::string(role_name(c.rule->role)) +
+                          " (a default topic): " + why;
+          if (std::find(skipped.begin(), skipped.end(), w) == skipped.end()) skipped.push_back(std::move(w));
+          c.rule = nullptr;
+        }
       } else {
         const auto [it, fresh] = role_topic.emplace(c.rule->role, s.topic);
         if (!fresh && it->second != s.topic) {
@@ -249,6 +261,11 @@ Result<ImportReport> import_recording(const std::string& in, const std::string& 
   md["duration_s"] = buf;
   if (!options.map.T_V_h.empty()) md["T_V_h"] = options.map.T_V_h;
   if (!options.map.T_V_v.empty()) md["T_V_v"] = options.map.T_V_v;
+  if (!options.map.T_V_gyro.empty()) md["T_V_gyro"] = options.map.T_V_gyro;
+  if (options.map.latitude_deg) {
+    std::snprintf(buf, sizeof buf, "%.17g", *options.map.latitude_deg);
+    md["latitude_deg"] = buf;
+  }
   for (const auto& [role, topic] : res.role_topic) md["topic." + std::string(role_name(role))] = topic;
   const std::string tmp = out + ".partial";
   auto writer = FixtureWriter::open(tmp, md, options.writer);
@@ -304,6 +321,7 @@ Result<ImportReport> import_recording(const std::string& in, const std::string& 
   report.input = summarise(in, &*rec, res, std::move(topics));
   report.first_ns = first;
   report.last_ns = last;
+  report.warnings = res.skipped;
   if (!rec->complete) report.warnings.push_back(in + " is truncated: " + rec->recovery);
   return report;
 }

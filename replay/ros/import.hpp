@@ -7,6 +7,7 @@
 //   dvl     rti_dvl/DVL, geometry_msgs/TwistWithCovarianceStamped, geometry_msgs/TwistStamped
 //   depth   bar30_depth/Depth, sensor_msgs/FluidPressure
 //   truth   geometry_msgs/PoseStamped, nav_msgs/Odometry (optional)
+//   gyro    kvh_gyro/gyro (optional; the authors' fibre-optic gyro: delta angles)
 // The fixture's events are the recording's messages in (stamp, channel, sequence) order
 // with sequences numbered per channel in stamp order; its bytes are a pure function of the
 // input file and the map (importing twice gives identical files).

@@ -26,6 +26,7 @@ static constexpr TypeEntry kTypes[] = {
     {"sensor_msgs/FluidPressure", Kind::kPressure, {Role::kDepth, Role::kDepth}},
     {"geometry_msgs/PoseStamped", Kind::kPose, {Role::kTruth, Role::kTruth}},
     {"nav_msgs/Odometry", Kind::kOdometry, {Role::kTruth, Role::kTruth}},
+    {"kvh_gyro/gyro", Kind::kKvhGyro, {Role::kGyro, Role::kGyro}},
 };
 
 const TypeEntry* type_entry(const std::string& type) {
@@ -389,6 +390,31 @@ Result<SonarPing> convert_projected(const MessageFields& f, const TopicRule& rul
   return Error{f.at + ": image.dtype " + std::to_string(dt) + " (uint8 0, uint16 2, float32 8 and float64 9 are read)"};
 }
 
+// kvh_gyro/gyro, as the authors' gyro_node publishes the DSP-1760's packets: `status`
+// true and `delta` = dx, dy, dz (rad, the gyro's frame, one sample period each); on a
+// packet it could not parse, status false and `delta` empty. Anything else is an error.
+Result<GyroReading> convert_kvh_gyro(const MessageFields& f) {
+  GyroReading g;
+  auto status = f.finite("status");  // a bool: any byte but 0 is true, as genpy reads it
+  if (!status) return status.error();
+  g.valid = *status != 0.0;
+  auto delta = f.get("delta");
+  if (!delta) return delta.error();
+  if ((*delta)->kind() != Value::Kind::kArray && (*delta)->kind() != Value::Kind::kBytes)
+    return Error{f.at + ": field 'delta' is not an array (dx, dy, dz in rad)"};
+  const std::vector<double> d = (*delta)->as_doubles();
+  if (d.empty() && !g.valid) return g;  // the node's message for a mangled packet
+  if (d.size() != 3)
+    return Error{f.at + ": field 'delta' has " + std::to_string(d.size()) +
+                 " elements, not 3 (dx, dy, dz in rad; empty only with status false)"};
+  for (size_t i = 0; i < 3; ++i)
+    if (!std::isfinite(d[i]))
+      return Error{f.at + ": field 'delta[" + std::to_string(i) + "]' is " + import_number_text(d[i]) +
+                   ", not a finite number"};
+  g.value_G = Vec3(d[0], d[1], d[2]);
+  return g;
+}
+
 }  // namespace
 
 Result<Payload> convert(Kind kind, const Value& msg, const TopicRule& rule, int64_t stamp_ns, const std::string& at) {
@@ -481,6 +507,13 @@ Result<Payload> convert(Kind kind, const Value& msg, const TopicRule& rule, int6
       r.p_W = ned ? ned_to_enu(*p) : *p;
       r.q_W_V = ned ? ned_frd_to_enu_flu(*q) : *q;
       return Payload(r);
+    }
+    case Kind::kKvhGyro: {
+      // The gyro's own frame: its mounting is T_V_gyro (topics.yaml mounts.gyro), not `convention`.
+      auto g = convert_kvh_gyro(f);
+      if (!g) return g.error();
+      g->stamp = t;
+      return Payload(*g);
     }
   }
   return Error{at + ": unknown type"};

@@ -58,7 +58,7 @@ std::string where(const Recording& rec, const SrcChannel& c, uint64_t index, con
 // ---- Readable types and the conversion of one message (import_convert.cpp) ----------------
 
 enum class Kind { kOculusPing, kOculusPingRaw, kProjected, kImu, kRtiDvl, kTwistCov, kTwist, kBar30, kPressure,
-                  kPose, kOdometry };
+                  kPose, kOdometry, kKvhGyro };
 
 struct TypeEntry {
   std::string_view type;

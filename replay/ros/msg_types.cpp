@@ -2,8 +2,8 @@
 //
 // ROS 1 texts are what genmsg's compute_full_text makes of the packages' .msg files (the
 // text a bag's connection record carries): std_msgs, geometry_msgs and sensor_msgs from
-// ros/common_msgs 1.13 (Noetic), the authors' sonar_oculus, rti_dvl and bar30_depth from
-// their Argonaut repository (BSD-3), marine_acoustic_msgs from
+// ros/common_msgs 1.13 (Noetic), the authors' sonar_oculus, rti_dvl, bar30_depth and
+// kvh_gyro from their Argonaut repository (BSD-3), marine_acoustic_msgs from
 // apl-ocean-engineering/marine_msgs (BSD-3; PingInfo as of the package rename: frequency,
 // sound_speed, tx/rx_beamwidths). ROS 2 texts are what rosbag2's
 // LocalMessageDefinitionSource writes into a ros2msg schema: the root .msg file, then each
@@ -455,6 +455,61 @@ MSG: geometry_msgs/Vector3
 float64 x
 float64 y
 float64 z
+
+================================================================================
+MSG: std_msgs/Header
+# Standard metadata for higher-level stamped data types.
+# This is generally used to communicate timestamped data
+# in a particular coordinate frame.
+
+# Two-integer timestamp that is expressed as seconds and nanoseconds.
+builtin_interfaces/Time stamp
+
+# Transform frame with which this data is associated.
+string frame_id
+
+================================================================================
+MSG: builtin_interfaces/Time
+# This message communicates ROS Time defined here:
+# https://design.ros2.org/articles/clock_and_time.html
+
+# The seconds component, valid over all int32 values.
+int32 sec
+
+# The nanoseconds component, valid in the range [0, 1e9), to be added to the seconds component.
+# e.g.
+# The time -1.7 seconds is represented as {sec: -2, nanosec: 3e8}
+# The time 1.7 seconds is represented as {sec: 1, nanosec: 7e8}
+uint32 nanosec
+)def";
+
+// kvh_gyro/gyro, ROS 1 (genmsg full text): the authors' gyro_node (Argonaut, BSD-3) publishes
+// the KVH DSP-1760's delta angles dx, dy, dz (rad) with it on /gyro.
+constexpr std::string_view kKvhGyroRos1 = R"def(Header header
+bool status #was there an error with the gyro?
+float64[] delta #an array for dx, dy, dz
+
+================================================================================
+MSG: std_msgs/Header
+# Standard metadata for higher-level stamped data types.
+# This is generally used to communicate timestamped data 
+# in a particular coordinate frame.
+# 
+# sequence ID: consecutively increasing ID 
+uint32 seq
+#Two-integer timestamp that is expressed as:
+# * stamp.sec: seconds (stamp_secs) since epoch (in Python the variable is called 'secs')
+# * stamp.nsec: nanoseconds since stamp_secs (in Python the variable is called 'nsecs')
+# time-handling sugar is provided by the client library
+time stamp
+#Frame this data is associated with
+string frame_id
+)def";
+
+// kvh_gyro/gyro, ROS 2 (rosbag2 ros2msg schema)
+constexpr std::string_view kKvhGyroRos2 = R"def(std_msgs/Header header
+bool status #was there an error with the gyro?
+float64[] delta #an array for dx, dy, dz
 
 ================================================================================
 MSG: std_msgs/Header
@@ -1390,6 +1445,8 @@ const std::vector<KnownType>& known_types() {
       {"geometry_msgs/TwistWithCovarianceStamped", kTwistWithCovarianceStampedRos1,
        kTwistWithCovarianceStampedRos2},
       {"geometry_msgs/PoseStamped", kPoseStampedRos1, kPoseStampedRos2},
+      // Last, so that the others keep their indices (fuzz_ros_msg seeds select types by index).
+      {"kvh_gyro/gyro", kKvhGyroRos1, kKvhGyroRos2},
   };
   return kTypes;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // Definition texts of the message types orthosonar imports and exports (issue 18), as
 // their packages publish them: the authors' stack (sonar_oculus/OculusPing,
-// OculusPingUncompressed, rti_dvl/DVL, bar30_depth/Depth), the community standard
+// OculusPingUncompressed, rti_dvl/DVL, bar30_depth/Depth, kvh_gyro/gyro), the community standard
 // (marine_acoustic_msgs/ProjectedSonarImage) and the common ROS types (sensor_msgs/Imu,
 // sensor_msgs/FluidPressure, geometry_msgs/TwistWithCovarianceStamped,
 // geometry_msgs/PoseStamped, sensor_msgs/Image, sensor_msgs/CompressedImage). Each text is

@@ -1,7 +1,7 @@
 // libFuzzer harness: `orthosonar import` end to end on a whole recording (a ROS 1 bag or a
 // ROS 2 / ROS 1 MCAP file, told apart by its magic as the command does): the container
 // readers, the file's own message definitions, both decoding passes, every role's converter
-// (raw, JPEG/PNG and ProjectedSonarImage pings, IMU, DVL, depth, truth) and the fixture
+// (raw, JPEG/PNG and ProjectedSonarImage pings, IMU, DVL, depth, truth, gyro) and the fixture
 // writer. An input may be rejected with an error, never crash. (`import --list` reads the
 // same containers without decoding; leaving it out keeps the executions per second up.)
 // The topic map is the authors' topics plus the standard types' (what `orthosonar export`

@@ -189,7 +189,7 @@ void check_round_trip(const Schema& schema, Encoding enc) {
 }  // namespace
 
 TEST_CASE("every known type parses in both dialects, with its dependencies", "[ros_msg]") {
-  REQUIRE(known_types().size() == 12);
+  REQUIRE(known_types().size() == 13);
   for (const KnownType& k : known_types()) {
     for (Dialect d : {Dialect::kRos1, Dialect::kRos2}) {
       const Schema s = parse_ok(k.name, d == Dialect::kRos1 ? k.ros1 : k.ros2, d);
@@ -252,6 +252,7 @@ TEST_CASE("MD5 sums equal the published ones (genmsg's rule)", "[ros_msg]") {
       {"sonar_oculus/OculusFire", "0ab4b9458f99dac20a81bfd379cffcb5"},
       {"rti_dvl/DVL", "84fe0dd3f2fa07f272dbadf697440637"},
       {"bar30_depth/Depth", "dd07528378d12aab22e9e6b826443a3a"},
+      {"kvh_gyro/gyro", "7bf4a7f82fe96d9124091847a68d6212"},
       {"marine_acoustic_msgs/ProjectedSonarImage", "c72fc8e29ab227a547720a36666022fd"},
   };
   for (const KnownType& k : known_types()) {

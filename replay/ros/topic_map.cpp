@@ -17,7 +17,9 @@ namespace {
 
 constexpr std::pair<Role, std::string_view> kRoleNames[] = {
     {Role::kHorizontalSonar, "horizontal_sonar"}, {Role::kVerticalSonar, "vertical_sonar"},
-    {Role::kImu, "imu"}, {Role::kDvl, "dvl"}, {Role::kDepth, "depth"}, {Role::kTruth, "truth"}};
+    {Role::kImu, "imu"}, {Role::kDvl, "dvl"}, {Role::kDepth, "depth"}, {Role::kTruth, "truth"},
+    {Role::kGyro, "gyro"}};
+constexpr const char* kRoleList = "horizontal_sonar, vertical_sonar, imu, dvl, depth, truth, gyro";
 
 std::string fmt17(double v) {
   char buf[40];
@@ -87,8 +89,7 @@ Status apply_rule_key(TopicRule& r, const std::string& key, const YAML::Node& v,
     if (!t) return t.error();
     const auto role = role_from_name(*t);
     if (!role)
-      return Error{at + ": unknown role '" + *t +
-                   "' (horizontal_sonar, vertical_sonar, imu, dvl, depth, truth)"};
+      return Error{at + ": unknown role '" + *t + "' (" + kRoleList + ")"};
     r.role = *role;
   } else if (key == "stamp") {
     auto t = text();
@@ -133,7 +134,7 @@ Result<TopicMap> parse_root(const YAML::Node& root, const std::string& path) {
   bool defaults = true;
   StampSource stamp = StampSource::kHeader;
   if (!root || root.IsNull()) return default_topic_map();
-  if (!root.IsMap()) return Error{path + ": expected a mapping (topics:, mounts:, defaults:, stamp:)"};
+  if (!root.IsMap()) return Error{path + ": expected a mapping (topics:, mounts:, latitude_deg:, defaults:, stamp:)"};
   for (const auto& kv : root) {
     auto k = key_name(kv.first, path);
     if (!k) return k.error();
@@ -176,22 +177,28 @@ Result<TopicMap> parse_root(const YAML::Node& root, const std::string& path) {
         } else {
           return Error{where + ": expected a role or a mapping {role: ..., ...}"};
         }
-        if (!has_role) return Error{where + ": no role (horizontal_sonar, vertical_sonar, imu, dvl, depth, truth)"};
+        if (!has_role) return Error{where + ": no role (" + kRoleList + ")"};
         m.rules.push_back(r);
       }
     } else if (k == "mounts") {
-      if (!kv.second.IsMap()) return Error{path + ": mounts: expected {horizontal: ..., vertical: ...}"};
+      if (!kv.second.IsMap()) return Error{path + ": mounts: expected {horizontal: ..., vertical: ..., gyro: ...}"};
       for (const auto& t : kv.second) {
         auto name = key_name(t.first, path + ": mounts");
         if (!name) return name.error();
-        if (*name != "horizontal" && *name != "vertical")
-          return Error{path + ": mounts." + *name + ": unknown mount (horizontal, vertical)"};
+        if (*name != "horizontal" && *name != "vertical" && *name != "gyro")
+          return Error{path + ": mounts." + *name + ": unknown mount (horizontal, vertical, gyro)"};
         auto text = mount(t.second, path + ": mounts." + *name);
         if (!text) return text.error();
-        (*name == "horizontal" ? m.T_V_h : m.T_V_v) = *text;
+        (*name == "horizontal" ? m.T_V_h : *name == "vertical" ? m.T_V_v : m.T_V_gyro) = *text;
       }
+    } else if (k == "latitude_deg") {
+      auto lat = number(kv.second, path + ": latitude_deg");
+      if (!lat) return lat.error();
+      if (*lat < -90.0 || *lat > 90.0)
+        return Error{path + ": latitude_deg: " + fmt17(*lat) + " is not a latitude in [-90, 90] degrees"};
+      m.latitude_deg = *lat;
     } else {
-      return Error{path + ": unknown key '" + k + "' (topics, mounts, defaults, stamp)"};
+      return Error{path + ": unknown key '" + k + "' (topics, mounts, latitude_deg, defaults, stamp)"};
     }
   }
   if (defaults) {
@@ -226,6 +233,7 @@ Channel channel_for(Role r) {
     case Role::kDvl: return Channel::kDvl;
     case Role::kDepth: return Channel::kDepth;
     case Role::kTruth: return Channel::kTruthPose;
+    case Role::kGyro: return Channel::kGyro;
   }
   return Channel::kImu;
 }
@@ -242,6 +250,7 @@ TopicMap default_topic_map() {
     TopicRule r;
     r.topic = topic;
     r.role = role;
+    r.from_defaults = true;
     m.rules.push_back(r);
   };
   add("/sonar_oculus_node/M750d/ping", Role::kHorizontalSonar);
@@ -250,6 +259,7 @@ TopicMap default_topic_map() {
   add("/rti/body_velocity/raw", Role::kDvl);
   add("/bar30/depth/raw", Role::kDepth);
   add("/orthosonar/truth", Role::kTruth);
+  add("/gyro", Role::kGyro);  // kvh_gyro/gyro, as the authors' gyro_node publishes it
   return m;
 }
 
@@ -290,11 +300,13 @@ std::string topic_map_yaml(const TopicMap& map, bool defaults) {
       if (r.gravity_m_s2 != base.gravity_m_s2) y += "    gravity: " + fmt17(r.gravity_m_s2) + "\n";
     }
   }
-  if (!map.T_V_h.empty() || !map.T_V_v.empty()) {
-    y += "mounts:   # x y z roll pitch yaw (metres, radians): T_V_h, T_V_v\n";
+  if (!map.T_V_h.empty() || !map.T_V_v.empty() || !map.T_V_gyro.empty()) {
+    y += "mounts:   # x y z roll pitch yaw (metres, radians): T_V_h, T_V_v, T_V_gyro\n";
     if (!map.T_V_h.empty()) y += "  horizontal: \"" + map.T_V_h + "\"\n";
     if (!map.T_V_v.empty()) y += "  vertical: \"" + map.T_V_v + "\"\n";
+    if (!map.T_V_gyro.empty()) y += "  gyro: \"" + map.T_V_gyro + "\"\n";
   }
+  if (map.latitude_deg) y += "latitude_deg: " + fmt17(*map.latitude_deg) + "   # the survey's (the gyro's Earth rate)\n";
   return y;
 }
 

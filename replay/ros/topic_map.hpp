@@ -14,7 +14,8 @@
 
 namespace orthosonar::replay::ros {
 
-enum class Role : uint8_t { kHorizontalSonar, kVerticalSonar, kImu, kDvl, kDepth, kTruth };
+// kGyro: a fibre-optic gyro's delta angles (optional, as kTruth); last, so the others keep their values.
+enum class Role : uint8_t { kHorizontalSonar, kVerticalSonar, kImu, kDvl, kDepth, kTruth, kGyro };
 inline constexpr Role kRequiredRoles[] = {Role::kHorizontalSonar, Role::kVerticalSonar, Role::kImu, Role::kDvl,
                                           Role::kDepth};
 std::string_view role_name(Role r);                  // "horizontal_sonar", ...
@@ -39,6 +40,9 @@ struct TopicRule {
   double fluid_density_kg_m3 = 1025.0;
   double atmospheric_pressure_pa = 101325.0;
   double gravity_m_s2 = 9.80665;
+  // Added by default_topic_map (not listed in a topics.yaml): a default topic of an optional
+  // role (truth, gyro) whose type that role cannot read is skipped with a warning, not an error.
+  bool from_defaults = false;
 };
 
 struct TopicMap {
@@ -46,13 +50,18 @@ struct TopicMap {
   // Sonar extrinsics written into the fixture's metadata ("x y z roll pitch yaw", metres
   // and radians, as fixtures store them); empty: the run configuration's defaults apply.
   std::string T_V_h, T_V_v;
+  // The fibre-optic gyro's mounting T_V_gyro (same form) and the latitude of the survey in
+  // degrees, [-90, 90] (the Earth rate the gyro senses): fixture metadata T_V_gyro and
+  // latitude_deg; empty / none: the run configuration's dr.T_V_gyro and dr.latitude_deg.
+  std::string T_V_gyro;
+  std::optional<double> latitude_deg;
   std::string source;                     // the file the map came from ("" = built in)
   const TopicRule* find(std::string_view topic) const;
 };
 
 // The authors' stack: /sonar_oculus_node/M750d/ping (h), /sonar_oculus_node/M1200d/ping
-// (v), /vn100/imu/raw, /rti/body_velocity/raw, /bar30/depth/raw, and /orthosonar/truth
-// (what `orthosonar export` writes); header stamps, REP-103 axes.
+// (v), /vn100/imu/raw, /rti/body_velocity/raw, /bar30/depth/raw, /gyro (kvh_gyro/gyro),
+// and /orthosonar/truth (what `orthosonar export` writes); header stamps, REP-103 axes.
 TopicMap default_topic_map();
 
 // Parses topics.yaml (text); `path` names the file in errors. Unless it says

@@ -1,9 +1,11 @@
-# Sourced by roundtrip.sh and ros2_typescript.sh (needs $cli, $scene, $seconds, fail()):
+# Sourced by roundtrip.sh, ros2_typescript.sh and gyro_interop.sh (needs $cli, $scene,
+# $seconds, fail(); $sim_args, if set, adds simulate options such as --config FILE):
 # simulates the mission, writes its effective configuration to cfg.yaml and defines
 # run <fixture> <out dir> (a replay with that configuration and the scene's mesh) and
 # same_maps <out dir> <label> (the round trip's maps and trajectories are the original's).
+# shellcheck disable=SC2086  # $sim_args: options, split on purpose
 "$cli" simulate --scene "$scene" --duration "$seconds" --resolution reduced --threads 1 -q -o orig.mcap \
-  --export-mesh scene.ply || fail "simulate"
+  --export-mesh scene.ply ${sim_args:-} || fail "simulate"
 # The original's effective configuration (its extrinsics and mission start included):
 # a bag has no scene, so the start pose comes from the run configuration.
 "$cli" config --fixture orig.mcap >cfg.yaml || fail "config"

@@ -2,7 +2,8 @@
 // second of every channel with tiny pings (16 x 8), exported as ROS 1 bags and ROS 2 MCAP
 // files in each sonar type (JPEG and raw OculusPing, ProjectedSonarImage), compression and
 // pixel depth `orthosonar export` offers, each checked to import again with the topics.yaml
-// export writes. Deterministic (a fixed synthetic seed, no clock).
+// export writes; two of them with the fibre-optic gyro's kvh_gyro/gyro too (100 Hz, one
+// reading invalid). Deterministic (a fixed synthetic seed, no clock).
 //   orthosonar_import_fuzz_seeds OUTDIR      e.g. testdata/fuzz/ros_import
 #include <filesystem>
 #include <iostream>
@@ -19,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool write_source_fixture(const std::string& path, uint8_t bytes_per_pixel) {
+bool write_source_fixture(const std::string& path, uint8_t bytes_per_pixel, double gyro_rate_hz = 0.0) {
   replay::SyntheticOptions so;
   so.duration_ns = 250'000'000;
   so.ping_rows = 16;
@@ -27,6 +28,7 @@ bool write_source_fixture(const std::string& path, uint8_t bytes_per_pixel) {
   so.bytes_per_pixel = bytes_per_pixel;
   so.imu_rate_hz = 20.0;
   so.labels = false;
+  so.gyro_rate_hz = gyro_rate_hz;
   auto w = replay::FixtureWriter::open(path, {});
   if (!w) {
     std::cerr << w.error().message << "\n";
@@ -57,7 +59,9 @@ int main(int argc, char** argv) {
   const fs::path tmp = fs::temp_directory_path() / "orthosonar_import_fuzz_seeds";
   fs::create_directories(tmp);
   const std::string src8 = (tmp / "src8.mcap").string(), src16 = (tmp / "src16.mcap").string();
-  if (!write_source_fixture(src8, 1) || !write_source_fixture(src16, 2)) return 2;
+  const std::string gyro = (tmp / "gyro.mcap").string();
+  if (!write_source_fixture(src8, 1) || !write_source_fixture(src16, 2) || !write_source_fixture(gyro, 1, 100.0))
+    return 2;
 
   using replay::ros::ExportTarget;
   using replay::ros::SonarType;
@@ -76,6 +80,8 @@ int main(int argc, char** argv) {
       {"ros2_raw.mcap", &src8, ExportTarget::kRos2Mcap, SonarType::kOculus, false, "none"},
       {"ros2_jpeg_zstd.mcap", &src8, ExportTarget::kRos2Mcap, SonarType::kOculus, true, "zstd"},
       {"ros2_projected16.mcap", &src16, ExportTarget::kRos2Mcap, SonarType::kProjected, false, "none"},
+      {"ros1_raw_gyro.bag", &gyro, ExportTarget::kRos1Bag, SonarType::kOculus, false, ""},
+      {"ros2_raw_gyro.mcap", &gyro, ExportTarget::kRos2Mcap, SonarType::kOculus, false, "none"},
   };
   for (const Seed& s : seeds) {
     replay::ros::ExportOptions o;
