@@ -124,11 +124,14 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
     {
       ScopedStage timer(clock_, slam_stats_);
       const auto& kfs = slam_.keyframes();
-      const std::optional<double> heading_sigma =
-          kfs.empty() ? std::nullopt : dr_.heading_sigma_rad(kfs.back().stamp, stamp);
+      slam::KeyframeSlam::DrSigma dr_sigma;
+      if (!kfs.empty()) {
+        dr_sigma.heading_rad = dr_.heading_sigma_rad(kfs.back().stamp, stamp);
+        dr_sigma.translation_m = dr_.translation_sigma_m(kfs.back().stamp, stamp);
+      }
       id = slam_.add_keyframe(stamp, T_W_V,
                               perception::planar_points_V(p.h, fused.detections_h, config_.fusion.T_V_h),
-                              heading_sigma);
+                              dr_sigma);
     }
     std::vector<SE3> poses;
     poses.reserve(slam_.keyframes().size());

@@ -49,6 +49,7 @@ void DeadReckoning::add(const ImuReading& r) {
     return;
   }
   const Quat q = r.q_W_V.normalized();
+  if (config_.use_gyro) gyro_.add_imu_heading(r.stamp, rpy_from_rotation(q.toRotationMatrix()).z());
   const double tau = config_.attitude_filter_tau_s;
   // A device set up without gyro output reports rates of exactly zero (hal/drivers/vn100.cpp
   // leaves them so); a real gyro never does on all three axes. Until a source has shown
@@ -116,6 +117,22 @@ std::optional<double> DeadReckoning::heading_sigma_rad(Time a, Time b) const {
   return std::sqrt(arw * arw * dt + bias * dt * bias * dt);
 }
 
+std::optional<double> DeadReckoning::translation_sigma_m(Time a, Time b) const {
+  if (dvl_readings_ < 2) return std::nullopt;
+  const auto pa = pose_at(a), pb = pose_at(b);
+  if (!pa.ok() || !pb.ok()) return std::nullopt;
+  const double period = (states_.back().stamp - dvl_first_).seconds() / static_cast<double>(dvl_readings_ - 1);
+  const double dt = std::abs((b - a).seconds());
+  const double d = (pb->translation() - pa->translation()).head<2>().norm();
+  const double white = config_.dvl_velocity_sigma_mps * config_.dvl_velocity_sigma_mps * dt * period;
+  const double scale = config_.dvl_scale_sigma * d;
+  double dropout = 0.0;  // seconds of [a, b] inside dropouts
+  const Time lo = std::min(a, b), hi = std::max(a, b);
+  for (const auto& [from, to] : counts_.gaps) dropout += std::max(0.0, (std::min(hi, to) - std::max(lo, from)).seconds());
+  const double lost = config_.dvl_dropout_speed_sigma_mps * dropout;
+  return std::sqrt(white + scale * scale + lost * lost);
+}
+
 Quat DeadReckoning::orientation_at(Time t) const {
   const Quat q = imu_orientation_at(t);
   if (!gyro_heading()) return q;
@@ -143,6 +160,7 @@ void DeadReckoning::add(const DvlReading& r) {
     return;
   }
   if (!states_.empty() && r.stamp <= states_.back().stamp) return;  // out of order / duplicate
+  if (dvl_readings_++ == 0) dvl_first_ = r.stamp;
   const Vec3& v = r.velocity_V_mps;
   bool good = false;
   if (!r.valid) {

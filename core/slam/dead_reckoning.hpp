@@ -43,6 +43,14 @@ struct DrConfig {
   GyroHeadingConfig gyro;                    // mounting T_V_gyro and latitude_deg
   double gyro_arw_deg_per_sqrt_h = 0.012;    // angle random walk (DSP-1760 datasheet)
   double gyro_bias_dph = 0.05;               // bias (in-run stability) the heading may drift by
+  // The DVL's noise figures (translation_sigma_m): white velocity noise per reading (SPEC
+  // §10's 0.01 m/s) and a scale-factor error (a bottom-tracking DVL's few tenths of a per
+  // cent of the distance).
+  double dvl_velocity_sigma_mps = 0.01;
+  double dvl_scale_sigma = 0.003;
+  // Over a dropout (no good reading for longer than hold_s) DR assumes the held, then zero,
+  // velocity: the vehicle's speed is unknown by about this much.
+  double dvl_dropout_speed_sigma_mps = 0.5;
 };
 
 struct DrCounts {
@@ -73,6 +81,12 @@ class DeadReckoning {
   // The heading's standard deviation accumulated from a to b by the gyro (angle random walk
   // and bias over b - a); nullopt when the heading is not the gyro's.
   std::optional<double> heading_sigma_rad(Time a, Time b) const;
+  // The horizontal translation's standard deviation accumulated from a to b by the DVL: its
+  // white velocity noise integrated over the readings (sigma_v sqrt((b - a) T), T the mean
+  // reading interval), its scale error over the distance travelled and the unknown speed of
+  // the dropouts inside [a, b], added in quadrature.
+  // nullopt before two DVL readings or outside the DR's time span.
+  std::optional<double> translation_sigma_m(Time a, Time b) const;
 
   // T_W_V at t: linear interpolation of translation and slerp of rotation between the
   // neighbouring DR states (one per DVL reading). An error outside [first_time, last_time].
@@ -97,6 +111,8 @@ class DeadReckoning {
   DrConfig config_;
   DrCounts counts_;
   std::vector<State> states_;
+  Time dvl_first_;        // the first DVL reading's stamp (the interval's mean: span / count)
+  size_t dvl_readings_ = 0;
   std::vector<std::pair<Time, Quat>> imu_;      // recent (filtered) IMU orientations (pruned)
   Vec3 rpy_filtered_ = Vec3::Zero();            // attitude filter state
   Time imu_last_;

@@ -218,3 +218,31 @@ TEST_CASE("DR skips and counts IMU readings with a non-finite orientation", "[un
   }
   CHECK(dr.pose_at(Time::from_s(1))->translation().x() == Approx(std::cos(0.2)).margin(0.01));
 }
+
+TEST_CASE("DR's translation sigma follows the DVL's noise figures, and grows over a dropout", "[unit]") {
+  DrConfig cfg;
+  cfg.dvl_velocity_sigma_mps = 0.01;
+  cfg.dvl_scale_sigma = 0.003;
+  cfg.dvl_dropout_speed_sigma_mps = 0.5;
+  const auto dr = run(40.0, [](double) { return 0.0; }, Vec3(0.5, 0.0, 0.0), [](DvlReading& r) {
+    return r.stamp <= Time::from_s(10) || r.stamp > Time::from_s(30);
+  }, cfg);
+  // 2 s to 8 s: 3 m. White: 0.01 m/s over 6 s at the mean reading interval; scale: 0.003 x 3 m.
+  const double scale = 0.003 * 3.0;
+  const auto s = dr.translation_sigma_m(Time::from_s(2), Time::from_s(8));
+  REQUIRE(s.has_value());
+  // The mean interval: 40 s over the readings kept, 51 in [0, 10] and 50 in (30, 40], less one.
+  const double mean_period = 40.0 / 100.0;
+  CHECK(*s == Approx(std::sqrt(0.01 * 0.01 * 6.0 * mean_period + scale * scale)).epsilon(1e-9));
+  CHECK(*s > scale);
+  CHECK(*s < 0.05);  // well under sigma_odometry's constant 0.05 m
+  // Across the outage (the dropout is [10 s, 30.2 s]): 0.5 m/s unknown over 20 s dominates.
+  const auto across = dr.translation_sigma_m(Time::from_s(8), Time::from_s(32));
+  REQUIRE(across.has_value());
+  CHECK(*across > 0.5 * 20.0);
+  CHECK(*across < 0.5 * 20.5);
+  // Before two readings or outside the DR span: none.
+  CHECK_FALSE(dr.translation_sigma_m(Time::from_s(2), Time::from_s(50)).has_value());
+  DeadReckoning empty;
+  CHECK_FALSE(empty.translation_sigma_m(Time::from_s(0), Time::from_s(1)).has_value());
+}

@@ -38,7 +38,7 @@ void GyroHeading::add(const GyroReading& r, const ImuAt& imu_at) {
   if (yaw_.empty()) {
     // The first sample's increment covers time before any attitude: start from the IMU.
     yaw_.emplace_back(r.stamp, rpy.z());
-    last_ = r.stamp;
+    first_ = last_ = r.stamp;
     ++counts_.used;
     return;
   }
@@ -50,8 +50,8 @@ void GyroHeading::add(const GyroReading& r, const ImuAt& imu_at) {
   const Time covered = gap ? period_ : dt;
   const double T = covered.seconds();
   Vec3 d_V = R_V_G_ * (r.is_rate ? Vec3(r.value_G * T) : r.value_G);
-  const double prev = yaw_.back().second;
-  const Eigen::Matrix3d R_W_V = se3_from_xyz_rpy(0, 0, 0, rpy.x(), rpy.y(), prev).rotation();
+  const double prev = yaw_.back().second;  // integrated, without the alignment offset
+  const Eigen::Matrix3d R_W_V = se3_from_xyz_rpy(0, 0, 0, rpy.x(), rpy.y(), prev + offset_).rotation();
   d_V -= R_W_V.transpose() * earth_W_ * T;
   const double phi = rpy.x(), c_theta = std::max(std::cos(rpy.y()), 1e-3);
   double d_yaw = (std::sin(phi) * d_V.y() + std::cos(phi) * d_V.z()) / c_theta;
@@ -64,6 +64,20 @@ void GyroHeading::add(const GyroReading& r, const ImuAt& imu_at) {
   yaw_.emplace_back(r.stamp, prev + d_yaw);
   last_ = r.stamp;
   ++counts_.used;
+  // IMU headings between the previous sample and this one: compare with the integrated
+  // heading interpolated at their stamps.
+  size_t done = 0;
+  for (const auto& [t, imu_yaw] : pending_) {
+    if (t > r.stamp) break;
+    const double s = static_cast<double>((t - (r.stamp - dt)).ns()) / static_cast<double>(dt.ns());
+    align_sum_ += wrap_angle(imu_yaw - (prev + s * d_yaw));
+    ++counts_.aligned;
+    ++done;
+  }
+  if (done > 0) {
+    pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(done));
+    offset_ = align_sum_ / static_cast<double>(counts_.aligned);
+  }
   if (yaw_.size() >= 64) {
     const Time cutoff = yaw_.back().first - Time::from_ns(kGyroKeepNs);
     auto it = std::find_if(yaw_.begin(), yaw_.end(), [&](const auto& e) { return e.first >= cutoff; });
@@ -71,15 +85,27 @@ void GyroHeading::add(const GyroReading& r, const ImuAt& imu_at) {
   }
 }
 
+void GyroHeading::add_imu_heading(Time stamp, double yaw) {
+  if (yaw_.empty() || !std::isfinite(yaw) || stamp < last_) return;
+  if ((stamp - first_).seconds() > config_.align_s) return;
+  if (stamp == last_) {  // at a sample: no interpolation needed
+    align_sum_ += wrap_angle(yaw - yaw_.back().second);
+    ++counts_.aligned;
+    offset_ = align_sum_ / static_cast<double>(counts_.aligned);
+    return;
+  }
+  pending_.emplace_back(stamp, yaw);
+}
+
 std::optional<double> GyroHeading::yaw_at(Time t) const {
   if (yaw_.empty()) return std::nullopt;
-  if (t <= yaw_.front().first) return wrap_angle(yaw_.front().second);
-  if (t >= yaw_.back().first) return wrap_angle(yaw_.back().second);
+  if (t <= yaw_.front().first) return wrap_angle(yaw_.front().second + offset_);
+  if (t >= yaw_.back().first) return wrap_angle(yaw_.back().second + offset_);
   auto it = std::upper_bound(yaw_.begin(), yaw_.end(), t, [](Time a, const auto& e) { return a < e.first; });
   const auto& b = *it;
   const auto& a = *(it - 1);
   const double s = static_cast<double>((t - a.first).ns()) / static_cast<double>((b.first - a.first).ns());
-  return wrap_angle(a.second + s * (b.second - a.second));
+  return wrap_angle(a.second + s * (b.second - a.second) + offset_);
 }
 
 }  // namespace orthosonar::slam

@@ -6,6 +6,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
+#include <random>
+#include <tuple>
 
 #include "core/slam/dead_reckoning.hpp"
 
@@ -171,4 +173,45 @@ TEST_CASE("dead reckoning takes its heading from the gyro when there is one, and
   feed(off, true);
   CHECK(std::abs(yaw_error_deg(off) - yaw_error_deg(ahrs)) < 1e-12);
   CHECK(off.counts().gyro.used == 0);
+}
+
+TEST_CASE("gyro heading aligns its start on the mean IMU heading of the first align_s seconds", "[unit][gyro]") {
+  // A turning vehicle whose IMU heading carries 0.2 deg of white noise per 100 Hz sample
+  // (the simulator's VN-100). Started from one IMU sample, the whole mission keeps that
+  // sample's error; aligned over the first second, the error of a 100-sample mean remains.
+  Mission m;
+  m.yaw_rate = 2.0 * kDeg;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> white(0.0, 0.2 * kDeg);
+  auto run = [&](double align_s, double first_error) {
+    GyroHeadingConfig cfg;
+    cfg.align_s = align_s;
+    GyroHeading h(cfg);
+    const int64_t n = 60'000'000'000 / kPeriodNs;  // 60 s
+    int64_t next_imu = 0;                            // ns
+    double at_2s = 0.0;
+    for (int64_t k = 0; k <= n; ++k) {
+      const Time t = Time::from_ns(k * kPeriodNs);
+      for (; next_imu <= t.ns(); next_imu += 10'000'000) {
+        const Time ti = Time::from_ns(next_imu);
+        h.add_imu_heading(ti, m.yaw(ti) + (next_imu == 0 ? first_error : white(rng)));
+      }
+      h.add(m.sample(k), m.imu(first_error));
+      if (t.ns() == 2'000'000'000) at_2s = wrap_angle(*h.yaw_at(t) - m.yaw(t));
+    }
+    const Time end = Time::from_ns(n * kPeriodNs);
+    return std::tuple{wrap_angle(*h.yaw_at(end) - m.yaw(end)), at_2s, h.counts().aligned};
+  };
+  const double first = 0.4 * kDeg;  // an unlucky first sample: two sigma
+  const auto [unaligned, unaligned_2s, n0] = run(0.0, first);
+  CHECK(n0 == 0);
+  CHECK(unaligned == Approx(first).margin(1e-6));
+  CHECK(unaligned_2s == Approx(first).margin(1e-6));
+  // The IMU headings of 10 ms ... 1 s (the one at 0 s comes before any gyro sample): 100.
+  const auto [aligned, aligned_2s, n1] = run(1.0, first);
+  CHECK(n1 == 100);
+  // The start's 0.4 deg is gone; 0.2 deg / sqrt(100) = 0.02 deg is left: within 3 sigma.
+  CHECK(std::abs(aligned) < 0.06 * kDeg);
+  // After the window the offset is frozen: 2 s and 60 s have the same error.
+  CHECK(aligned_2s == Approx(aligned).margin(1e-6));
 }

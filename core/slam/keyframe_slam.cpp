@@ -84,11 +84,19 @@ size_t KeyframeSlam::accepted_loop_closures() const {
 
 int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
                                std::vector<Eigen::Vector2d> planar_points_V,
-                               std::optional<double> dr_heading_sigma_rad) {
+                               DrSigma dr_sigma) {
   const int id = static_cast<int>(keyframes_.size());
   sigma_dr_ = config_.sigma_odometry;
-  if (dr_heading_sigma_rad)
-    sigma_dr_.z() = std::max(*dr_heading_sigma_rad, config_.gyro_heading_sigma_min_deg * kDegToRad);
+  using Model = SlamConfig::DrSigmaModel;
+  const Model model = config_.dr_sigma_model;
+  if (dr_sigma.heading_rad && model != Model::kConstant)
+    sigma_dr_.z() = std::max(*dr_sigma.heading_rad, config_.gyro_heading_sigma_min_deg * kDegToRad);
+  const bool sensors = model == Model::kSensors || (model == Model::kAuto && dr_sigma.heading_rad.has_value());
+  dr_from_sensors_ = sensors && dr_sigma.translation_m.has_value();
+  if (dr_from_sensors_) {
+    const double t = std::max(*dr_sigma.translation_m, config_.dr_translation_sigma_min_m);
+    sigma_dr_.x() = sigma_dr_.y() = t;
+  }
   Keyframe kf;
   kf.id = id;
   kf.stamp = stamp;
@@ -199,7 +207,23 @@ void KeyframeSlam::sequential_match(int id) {
       const Eigen::Vector3d d(diff.x, diff.y, diff.theta);
       close = squared_mahalanobis(d, joint) <= config_.ssm_max_mahalanobis;
     }
-    if (icp.converged && close) {
+    // A match that adds little to what DR already knows (a fibre-optic gyro's heading and a
+    // DVL's translation: a few per cent of the information in every direction) is left out:
+    // its errors are biased on one-sided structure (docs/SLAM.md "SSM and DR together"), and a
+    // small bias repeated at every keyframe adds up where the little information does not.
+    bool informative = true;
+    if (icp.converged && close && config_.ssm_min_information_ratio > 0.0) {
+      const Eigen::DiagonalMatrix<double, 3> s(sigma_dr_);
+      const Eigen::Matrix3d gain = s * m.information() * s;
+      informative = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(gain, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff() >=
+                    config_.ssm_min_information_ratio;
+    }
+    if (icp.converged && close && !informative) {
+      m.reason = "icp adds under " + std::to_string(static_cast<int>(config_.ssm_min_information_ratio * 100.0 + 0.5)) +
+                 " % of dead reckoning's information" + m.reason;
+      factors_.push_back(std::move(m));
+      f.reason = "dead reckoning: icp adds little";
+    } else if (icp.converged && close) {
       m.accepted = true;
       m.reason = "icp converged" + m.reason;
       f = std::move(m);
@@ -271,7 +295,8 @@ void KeyframeSlam::loop_closure(int id) {
   const auto source = seen_from(cur.cloud_V, T_W_new, ids);
   if (target.size() < config_.nssm_min_points || source.size() < config_.nssm_min_points) return;
   const IcpResult icp = icp_2d(source, target, T_anchor_new, config_.icp);
-  Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source, config_.sigma_loop, false, ""};
+  Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source,
+           dr_from_sensors_ ? config_.sigma_loop_gyro : config_.sigma_loop, false, ""};
   if (!icp.converged) {
     f.reason = "icp not converged";
   } else if (icp.rmse > config_.nssm_max_rmse_m) {

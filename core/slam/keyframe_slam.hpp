@@ -46,6 +46,12 @@ struct SlamConfig {
   // sigma_odometry^2 + sigma_icp^2) exceeds this (chi-square 0.99, 3 dof, as PCM); 0 = off
   // (SPEC: only the 3 m / 30 deg gate).
   double ssm_max_mahalanobis = 11.34;
+  // Addition (docs/SLAM.md "The DR factor from the sensors' noise figures"): a scan match
+  // whose information, whitened by the DR factor's sigmas, is below this ratio in every
+  // direction is recorded but not added (DR alone is as good; its bias would add up). With
+  // sigma_odometry and sigma_icp as set, ratio 0.25: every match is kept; with a FOG heading
+  // and the DVL's translation sigma about 0.02. 0 = off.
+  double ssm_min_information_ratio = 0.1;
   // Loop closures.
   int nssm_min_separation = 8;        // keyframes older than the newest by at least this
   double nssm_min_travel_m = 20.0;    // ...and at least this far back along the DR path (addition)
@@ -72,12 +78,25 @@ struct SlamConfig {
   // one keyframe interval (docs/SLAM.md "Noise models").
   Eigen::Vector3d sigma_odometry{0.05, 0.05, 0.005};
   // With a fibre-optic gyro the DR factor's heading sigma is what the gyro accumulated
-  // between the keyframes (add_keyframe's dr_heading_sigma_rad), at least this.
+  // between the keyframes (add_keyframe's DrSigma::heading_rad), at least this.
   double gyro_heading_sigma_min_deg = 0.01;
+  // The DR factor's translation sigma (docs/SLAM.md "The DR factor from the sensors' noise
+  // figures"): kConstant sigma_odometry's; kSensors what the DVL accumulated between the
+  // keyframes (DrSigma::translation_m, at least dr_translation_sigma_min_m); kAuto the
+  // sensors' when the heading is a fibre-optic gyro's, the constant otherwise (a drifting
+  // AHRS needs scan matches' translations with its headings: measured there).
+  enum class DrSigmaModel : uint8_t { kAuto, kConstant, kSensors };
+  DrSigmaModel dr_sigma_model = DrSigmaModel::kAuto;
+  double dr_translation_sigma_min_m = 0.005;
   Eigen::Vector3d sigma_icp{0.1, 0.1, 0.01};
   // Loop-closure factors (SPEC: the ICP noise above). A loop match between views minutes
   // apart is less certain than a sequential one (docs/SLAM.md "Noise models").
   Eigen::Vector3d sigma_loop{0.5, 0.5, 0.05};
+  // The same when the DR factor comes from the sensors' noise figures (dr_sigma_model; with
+  // a fibre-optic gyro under kAuto): a loop match started from a heading that does not drift
+  // is as good as its fit, and the tighter noise lets the odometry-chain gate
+  // (nssm_max_mahalanobis) refuse the metre-off matches that 0.5 m let in (docs/SLAM.md).
+  Eigen::Vector3d sigma_loop_gyro{0.2, 0.2, 0.005};
   // Addition (docs/SLAM.md "Degenerate scan matches"): a scan-match factor (sequential or
   // loop) constrains only what its fit observes. Its information, diag(1/sigma²) as above,
   // is weakened along each eigen-direction of the fit's Hessian (icp_fit_information, in
@@ -159,11 +178,15 @@ class KeyframeSlam {
   // Adds a keyframe (SSM vs the previous keyframes, NSSM + PCM, warm-started re-solve of
   // the whole graph when a loop closure joined it, of the new pose alone otherwise).
   // planar_points_V: horizontal-sonar detections in V with elevation 0 (x, y). Returns its id.
-  // dr_heading_sigma_rad: the DR heading's sigma since the previous keyframe when the
-  // heading comes from a fibre-optic gyro (DeadReckoning::heading_sigma_rad); nullopt keeps
-  // sigma_odometry's.
+  // dr_sigma: the DR's own sigmas since the previous keyframe (DeadReckoning's
+  // heading_sigma_rad, set when the heading is a fibre-optic gyro's, and translation_sigma_m);
+  // what SlamConfig::dr_sigma_model does with them is there. Empty: sigma_odometry.
+  struct DrSigma {
+    std::optional<double> translation_m;
+    std::optional<double> heading_rad;
+  };
   int add_keyframe(Time stamp, const SE3& T_W_V_dr, std::vector<Eigen::Vector2d> planar_points_V,
-                   std::optional<double> dr_heading_sigma_rad = std::nullopt);
+                   DrSigma dr_sigma = {});
 
   const std::vector<Keyframe>& keyframes() const { return keyframes_; }
   const std::vector<Factor>& factors() const { return factors_; }
@@ -209,6 +232,7 @@ class KeyframeSlam {
   PoseGraphSummary last_solve_;
   double heading_drift_rad_s_ = 0.0;
   Eigen::Vector3d sigma_dr_ = Eigen::Vector3d::Zero();  // the newest keyframe's DR factor sigma
+  bool dr_from_sensors_ = false;           // sigma_dr_'s translation is the DVL's (dr_sigma_model)
   int heading_link_anchor_ = 0;            // the keyframe the next heading link starts from
 };
 

@@ -307,3 +307,39 @@ TEST_CASE("Heading links hold a chain of heading-biased scan matches to the DR h
   CHECK(e_without > 1.0 * std::numbers::pi / 180.0);  // the biased chain turns SLAM by 1.5 deg
   CHECK(e_with < 0.5 * e_without);
 }
+
+TEST_CASE("With the DR factor from a FOG and a DVL, scan matches that add little are recorded, not added", "[unit]") {
+  // The synthetic basin, DR good in heading and translation (a FOG and a DVL). With the
+  // sensors' sigmas (a few per cent of the scan matches' information in every direction) the
+  // sequential matches are left out; with the constant sigma_odometry they are added.
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 1);
+  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
+  auto fly = [&](SlamConfig::DrSigmaModel model, KeyframeSlam::DrSigma sigma) {
+    SlamConfig config;
+    config.dr_sigma_model = model;
+    KeyframeSlam slam(config);
+    for (size_t i = 0; i < truth.size(); ++i)
+      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
+                        i == 0 ? KeyframeSlam::DrSigma{} : sigma);
+    size_t icp_added = 0, icp_little = 0;
+    for (const auto& f : slam.factors()) {
+      if (f.kind != FactorKind::kSequentialIcp) continue;
+      icp_added += f.accepted ? 1 : 0;
+      icp_little += f.reason.find("adds under 10 %") != std::string::npos ? 1 : 0;
+    }
+    CHECK(graph_connected(slam));
+    return std::pair{icp_added, icp_little};
+  };
+  const KeyframeSlam::DrSigma fog{0.015, 0.0002};
+  const auto [added_auto, little_auto] = fly(SlamConfig::DrSigmaModel::kAuto, fog);
+  CHECK(added_auto == 0);
+  CHECK(little_auto > 10);
+  const auto [added_const, little_const] = fly(SlamConfig::DrSigmaModel::kConstant, fog);
+  CHECK(added_const > 10);
+  CHECK(little_const == 0);
+  // Without a gyro heading, auto keeps the constant: the matches are added.
+  const auto [added_ahrs, little_ahrs] = fly(SlamConfig::DrSigmaModel::kAuto, KeyframeSlam::DrSigma{0.015, std::nullopt});
+  CHECK(added_ahrs > 10);
+  CHECK(little_ahrs == 0);
+}

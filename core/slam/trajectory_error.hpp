@@ -17,4 +17,10 @@ enum class AteAlignment { kNone, kFirstPosition };
 Result<double> ate_rmse(const std::vector<Vec3>& est, const std::vector<Vec3>& truth,
                         AteAlignment alignment = AteAlignment::kFirstPosition);
 
+// "SLAM no worse than DR": a SLAM trajectory that is DR's (no scan match or loop closure
+// added anything) differs from it by rounding in the graph solve, 1e-15 m; a nanometre of
+// ATE is a tie, not a loss.
+inline constexpr double kAteTieM = 1e-9;
+inline bool slam_no_worse_than_dr(double ate_slam_m, double ate_dr_m) { return ate_slam_m <= ate_dr_m + kAteTieM; }
+
 }  // namespace orthosonar::slam

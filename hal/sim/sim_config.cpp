@@ -57,17 +57,20 @@ Result<NavProfile> parse_nav_profile(const std::string& s) {
 }
 
 void apply_nav_profile(NavConfig& n, NavProfile p) {
-  const NavConfig base;  // ahrs: the drifting AHRS as every mission before the profiles had it
+  const NavConfig base;  // paper: the VN-100 as every mission before the profiles had it, and the FOG
   n.imu_yaw_bias_rate_dps = base.imu_yaw_bias_rate_dps;
   n.imu_yaw_bias_walk_deg_per_sqrt_s = base.imu_yaw_bias_walk_deg_per_sqrt_s;
-  n.gyro_rate_hz = 0.0;
+  n.gyro_rate_hz = base.gyro_rate_hz;
   n.gyro_rates = base.gyro_rates;
   n.gyro_arw_deg_per_sqrt_h = base.gyro_arw_deg_per_sqrt_h;
   n.gyro_bias_dph = base.gyro_bias_dph;
   switch (p) {
-    case NavProfile::kAhrs: break;
-    case NavProfile::kPaper: n.gyro_rate_hz = 250.0; break;  // the authors' 250 Hz delta angles
-    case NavProfile::kConsumer: n.imu_yaw_bias_rate_dps = 0.05; break;  // 3 deg/min
+    case NavProfile::kPaper: break;  // the authors' 250 Hz delta angles
+    case NavProfile::kAhrs: n.gyro_rate_hz = 0.0; break;
+    case NavProfile::kConsumer:
+      n.gyro_rate_hz = 0.0;
+      n.imu_yaw_bias_rate_dps = 0.05;  // 3 deg/min
+      break;
   }
 }
 

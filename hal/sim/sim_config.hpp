@@ -131,17 +131,19 @@ struct NavConfig {
   double depth_sigma_m = 0.02;
   // Fibre-optic gyro (the paper's KVH DSP-1760, docs/SCENES.md "Navigation profiles"):
   // delta angles (or rates) about its own axes at gyro_rate_hz, with the Earth's rotation
-  // at the scene's latitude in them. 0 = no gyro (profiles ahrs and consumer).
-  double gyro_rate_hz = 0.0;
+  // at the scene's latitude in them. 0 = no gyro (profiles ahrs and consumer); 250 Hz is
+  // the paper profile's, the default.
+  double gyro_rate_hz = 250.0;
   bool gyro_rates = false;                     // false: delta angles (rad), as the authors configured it
   double gyro_arw_deg_per_sqrt_h = 0.012;      // angle random walk (datasheet: <= 0.012 deg/sqrt(h))
   double gyro_bias_dph = 0.05;                 // constant bias per axis, drawn N(0, this) per mission
 };
 
 // Navigation profiles: named sets of the nav.* values above (YAML `nav_profile`, applied
-// before the nav keys, which refine it). paper: the paper's vehicle, the VN-100 AHRS plus
-// the DSP-1760 FOG at 250 Hz delta angles; ahrs: the drifting AHRS alone (the defaults of
-// NavConfig); consumer: a consumer-grade heading (3 deg/min drift, docs/CONFIG.md).
+// before the nav keys, which refine it). paper (the default, NavConfig's values): the
+// paper's vehicle, the VN-100 AHRS plus the DSP-1760 FOG at 250 Hz delta angles; ahrs: the
+// drifting AHRS alone (every mission before 2026-12-05); consumer: a consumer-grade heading
+// (3 deg/min drift, docs/CONFIG.md), no gyro.
 enum class NavProfile { kAhrs, kPaper, kConsumer };
 const char* nav_profile_name(NavProfile p);
 Result<NavProfile> parse_nav_profile(const std::string& s);
@@ -149,7 +151,7 @@ void apply_nav_profile(NavConfig& n, NavProfile p);
 
 struct SimConfig {
   SonarProfile profile = SonarProfile::kField;  // what apply_profile gave `sonar` (YAML: profile)
-  NavProfile nav_profile = NavProfile::kAhrs;   // what apply_nav_profile gave `nav` (YAML: nav_profile)
+  NavProfile nav_profile = NavProfile::kPaper;  // what apply_nav_profile gave `nav` (YAML: nav_profile)
   double duration_s = 60.0;
   uint64_t seed = 1;                   // noise seed (scene geometry has its own seed)
   Resolution resolution = Resolution::kFull;

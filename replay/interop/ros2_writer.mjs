@@ -46,6 +46,10 @@ const defs = {
     "std_msgs/Header header\ngeometry_msgs/Vector3 velocity\nfloat64 temperature\nfloat64 altitude\nfloat64 time",
     HEADER, TIME, VEC3,
   ].join(SEP),
+  "kvh_gyro/msg/gyro": [
+    "std_msgs/Header header\nbool status\nfloat64[] delta",
+    HEADER, TIME,
+  ].join(SEP),
   "bar30_depth/msg/Depth": [
     "std_msgs/Header header\nfloat32 time\nfloat32 pressure_abs\nfloat32 pressure_diff\nfloat32 temperature\nfloat32 depth",
     HEADER, TIME,
@@ -118,6 +122,11 @@ for (let r; (r = reader.nextRecord()); ) {
   } else if (ch.topic === "/depth") {
     topic = "/bar30/depth/raw"; type = "bar30_depth/msg/Depth";
     out = { header, time: 0, pressure_abs: 0, pressure_diff: 0, temperature: 0, depth: m.depth };
+  } else if (ch.topic === "/gyro") {
+    // The authors' gyro_node: delta angles dx, dy, dz (rad) in the gyro's frame.
+    if (m.is_rate) fail("a gyro rate: the authors' kvh_gyro/gyro carries delta angles");
+    topic = "/gyro"; type = "kvh_gyro/msg/gyro";
+    out = { header, status: m.status, delta: Float64Array.of(m.value.x, m.value.y, m.value.z) };
   } else {
     continue;  // truth and labels: not sensor data
   }
@@ -127,5 +136,7 @@ for (let r; (r = reader.nextRecord()); ) {
 }
 await writer.end();
 await file.close();
-if (Object.keys(counts).length !== 5) fail(`wrote ${Object.keys(counts).length} topics, expected 5: ${JSON.stringify(counts)}`);
+// The five sensor topics, and the gyro when the mission has one (navigation profile paper).
+const expected = 5 + (outChannels.has("/gyro") ? 1 : 0);
+if (Object.keys(counts).length !== expected) fail(`wrote ${Object.keys(counts).length} topics, expected ${expected}: ${JSON.stringify(counts)}`);
 console.log(JSON.stringify({ bytes: Number(position), counts }));

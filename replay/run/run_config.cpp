@@ -116,8 +116,12 @@ Table root_table(RunConfig& c) {
                       {"use_gyro", kKeys.boolean(d.use_gyro)},
                       {"T_V_gyro", kKeys.pose(d.gyro.T_V_gyro)},
                       {"latitude_deg", kKeys.real(d.gyro.latitude_deg, -90.0, 90.0)},
+                      {"gyro_align_s", kKeys.real(d.gyro.align_s, 0.0, 3600.0)},
                       {"gyro_arw_deg_per_sqrt_h", kKeys.real(d.gyro_arw_deg_per_sqrt_h, 0.0, 100.0)},
-                      {"gyro_bias_dph", kKeys.real(d.gyro_bias_dph, 0.0, 3600.0)}};
+                      {"gyro_bias_dph", kKeys.real(d.gyro_bias_dph, 0.0, 3600.0)},
+                      {"dvl_velocity_sigma_mps", kKeys.real(d.dvl_velocity_sigma_mps, 0.0, 10.0)},
+                      {"dvl_scale_sigma", kKeys.real(d.dvl_scale_sigma, 0.0, 1.0)},
+                      {"dvl_dropout_speed_sigma_mps", kKeys.real(d.dvl_dropout_speed_sigma_mps, 0.0, 100.0)}};
        })},
       {"slam", kKeys.nested([&s] {
          return Table{{"kf_distance_m", kKeys.real(s.kf_distance_m, 0.0, 1000.0, true)},
@@ -131,6 +135,7 @@ Table root_table(RunConfig& c) {
                       {"ssm_max_rotation_deg", kKeys.real(s.ssm_max_rotation_deg, 0.0, 180.0, true)},
                       {"ssm_keep_dr_factor", kKeys.boolean(s.ssm_keep_dr_factor)},
                       {"ssm_max_mahalanobis", kKeys.real(s.ssm_max_mahalanobis, 0.0, 1e6)},
+                      {"ssm_min_information_ratio", kKeys.real(s.ssm_min_information_ratio, 0.0, 1.0)},
                       {"nssm_min_separation", kKeys.integer(s.nssm_min_separation, 1, 1000000)},
                       {"nssm_min_travel_m", kKeys.real(s.nssm_min_travel_m, 0.0, 1e6)},
                       {"nssm_range_m", kKeys.real(s.nssm_range_m, 0.0, 1000.0, true)},
@@ -144,6 +149,7 @@ Table root_table(RunConfig& c) {
                       {"gyro_heading_sigma_min_deg", kKeys.real(s.gyro_heading_sigma_min_deg, 0.0, 90.0)},
                       {"sigma_icp", sigma(s.sigma_icp)},
                       {"sigma_loop", sigma(s.sigma_loop)},
+                      {"sigma_loop_gyro", sigma(s.sigma_loop_gyro)},
                       {"degeneracy_ratio", kKeys.real(s.degeneracy_ratio, 0.0, 1.0)},
                       {"nssm_max_mahalanobis", kKeys.real(s.nssm_max_mahalanobis, 0.0, 1e12)},
                       {"heading_drift_sigma_dps", kKeys.real(s.heading_drift_sigma_dps, 0.0, 10.0)},
@@ -161,6 +167,16 @@ Table root_table(RunConfig& c) {
                                              return false;
                                            })},
                       {"loop_loss_scale", kKeys.real(s.loop_loss_scale, 0.0, 1000.0, true)},
+                      {"dr_sigma_model", kKeys.choice("auto, constant, sensors",
+                                                [&s](const std::string& v) {
+                                                  using M = slam::SlamConfig::DrSigmaModel;
+                                                  if (v == "auto") s.dr_sigma_model = M::kAuto;
+                                                  else if (v == "constant") s.dr_sigma_model = M::kConstant;
+                                                  else if (v == "sensors") s.dr_sigma_model = M::kSensors;
+                                                  else return false;
+                                                  return true;
+                                                })},
+                      {"dr_translation_sigma_min_m", kKeys.real(s.dr_translation_sigma_min_m, 0.0, 1000.0)},
                       {"solver", kKeys.nested([&s] {
                          auto& g = s.solver;
                          return Table{{"max_iterations", kKeys.integer(g.max_iterations, 1, 10000)},
@@ -263,14 +279,18 @@ nlohmann::json config_to_json(const RunConfig& c) {
         {"use_gyro", d.use_gyro},
         {"T_V_gyro", pose6_string(d.gyro.T_V_gyro)},
         {"latitude_deg", d.gyro.latitude_deg},
+        {"gyro_align_s", d.gyro.align_s},
         {"gyro_arw_deg_per_sqrt_h", d.gyro_arw_deg_per_sqrt_h},
-        {"gyro_bias_dph", d.gyro_bias_dph}}},
+        {"gyro_bias_dph", d.gyro_bias_dph},
+        {"dvl_velocity_sigma_mps", d.dvl_velocity_sigma_mps},
+        {"dvl_scale_sigma", d.dvl_scale_sigma},
+        {"dvl_dropout_speed_sigma_mps", d.dvl_dropout_speed_sigma_mps}}},
       {"slam", {{"kf_distance_m", s.kf_distance_m}, {"kf_rotation_deg", s.kf_rotation_deg},
                 {"voxel_m", s.voxel_m}, {"outlier_radius_m", s.outlier_radius_m},
                 {"outlier_min_neighbours", s.outlier_min_neighbours}, {"ssm_target_frames", s.ssm_target_frames},
                 {"ssm_min_points", s.ssm_min_points}, {"ssm_max_translation_m", s.ssm_max_translation_m},
                 {"ssm_max_rotation_deg", s.ssm_max_rotation_deg}, {"ssm_keep_dr_factor", s.ssm_keep_dr_factor},
-                {"ssm_max_mahalanobis", s.ssm_max_mahalanobis}, {"nssm_min_separation", s.nssm_min_separation},
+                {"ssm_max_mahalanobis", s.ssm_max_mahalanobis}, {"ssm_min_information_ratio", s.ssm_min_information_ratio}, {"nssm_min_separation", s.nssm_min_separation},
                 {"nssm_min_travel_m", s.nssm_min_travel_m},
                 {"nssm_range_m", s.nssm_range_m}, {"nssm_min_points", s.nssm_min_points},
                 {"nssm_max_rmse_m", s.nssm_max_rmse_m}, {"pcm_queue", s.pcm_queue},
@@ -280,6 +300,7 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"gyro_heading_sigma_min_deg", s.gyro_heading_sigma_min_deg},
                 {"sigma_icp", {s.sigma_icp.x(), s.sigma_icp.y(), s.sigma_icp.z()}},
                 {"sigma_loop", {s.sigma_loop.x(), s.sigma_loop.y(), s.sigma_loop.z()}},
+                {"sigma_loop_gyro", {s.sigma_loop_gyro.x(), s.sigma_loop_gyro.y(), s.sigma_loop_gyro.z()}},
                 {"degeneracy_ratio", s.degeneracy_ratio},
                 {"nssm_max_mahalanobis", s.nssm_max_mahalanobis},
                 {"heading_drift_sigma_dps", s.heading_drift_sigma_dps},
@@ -289,6 +310,10 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"heading_link_white_deg", s.heading_link_white_deg},
                 {"loop_loss", slam::loss_name(s.loop_loss)},
                 {"loop_loss_scale", s.loop_loss_scale},
+                {"dr_sigma_model", s.dr_sigma_model == slam::SlamConfig::DrSigmaModel::kAuto       ? "auto"
+                                   : s.dr_sigma_model == slam::SlamConfig::DrSigmaModel::kConstant ? "constant"
+                                                                                                   : "sensors"},
+                {"dr_translation_sigma_min_m", s.dr_translation_sigma_min_m},
                 {"solver", {{"max_iterations", s.solver.max_iterations},
                             {"function_tolerance", s.solver.function_tolerance},
                             {"initial_trust_region_radius", s.solver.initial_trust_region_radius},

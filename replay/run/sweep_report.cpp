@@ -2,6 +2,7 @@
 // ATE (tables.md, runtime.md), grid.json/grid.csv/runtime.json, and over a set of sweeps the
 // seed tables pooled per scene (seeds.md, seeds.json). Running the cells is sweep.cpp.
 #include "replay/run/sweep.hpp"
+#include "core/slam/trajectory_error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -69,7 +70,7 @@ struct AteStats {
   void add(const CellResult& c) {
     if (!c.ate_dr_m || !c.ate_slam_m) return;
     ++cells;
-    if (*c.ate_slam_m <= *c.ate_dr_m) ++slam_le_dr;
+    if (slam::slam_no_worse_than_dr(*c.ate_slam_m, *c.ate_dr_m)) ++slam_le_dr;
     if (*c.ate_dr_m > 0.0) ratios.push_back(*c.ate_slam_m / *c.ate_dr_m);
   }
   std::optional<double> median() const {
