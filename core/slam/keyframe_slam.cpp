@@ -330,7 +330,11 @@ bool KeyframeSlam::disagrees_with_chain(const Factor& loop) const {
   const SE2 diff = chain.T.inverse() * loop.T_from_to;
   const Eigen::Vector3d d(diff.x, diff.y, wrap_angle(diff.theta));
   const Eigen::Matrix3d joint = chain.cov + loop.covariance();
-  return !(squared_mahalanobis(d, joint) <= config_.nssm_max_mahalanobis);
+  if (!(squared_mahalanobis(d, joint) <= config_.nssm_max_mahalanobis)) return true;
+  // With a FOG's heading the chain knows the relative heading to hundredths of a degree; a
+  // loop turned by more than this is ICP's other minimum, whatever its translation says.
+  return dr_from_sensors_ && config_.nssm_max_heading_diff_gyro_deg > 0.0 &&
+         std::abs(d.z()) > config_.nssm_max_heading_diff_gyro_deg * kDegToRad;
 }
 
 UncertainSE2 KeyframeSlam::odometry_between(int i, int j) const {

@@ -68,6 +68,10 @@ struct SlamConfig {
   // graph's estimate of the same relative pose (joint covariance: the odometry chain between
   // the two keyframes + the loop's own) exceeds this is not a candidate. 0 = off.
   double nssm_max_mahalanobis = 30.0;
+  // Addition (docs/SLAM.md "The DR factor from the sensors' noise figures"): when the DR
+  // factor is the sensors' (a FOG heading), a loop candidate whose heading differs from the
+  // odometry chain's by more than this is not a candidate either. 0 = off.
+  double nssm_max_heading_diff_gyro_deg = 0.5;
   double nssm_max_rmse_m = 1.0;       // an ICP fit worse than this is not a candidate (PCM judges the rest)
   int pcm_queue = 5;
   double pcm_threshold = 11.34;       // chi-square 0.99, 3 dof (squared Mahalanobis)

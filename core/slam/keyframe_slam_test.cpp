@@ -343,3 +343,25 @@ TEST_CASE("With the DR factor from a FOG and a DVL, scan matches that add little
   CHECK(added_ahrs > 10);
   CHECK(little_ahrs == 0);
 }
+
+TEST_CASE("With a FOG's DR factor, loops turned from the odometry chain by more than the gate are no candidates", "[unit]") {
+  // Two laps of the basin with FOG-grade DR: the loop matches are within a tenth of a degree
+  // of the chain and pass the 0.5 deg gate; a gate of 1e-4 deg refuses every one, and
+  // without a gyro heading (the AHRS graph) the gate does not apply.
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
+  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
+  auto fly = [&](double gate_deg, std::optional<double> heading_sigma) {
+    SlamConfig config;
+    config.nssm_max_heading_diff_gyro_deg = gate_deg;
+    KeyframeSlam slam(config);
+    for (size_t i = 0; i < truth.size(); ++i)
+      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
+                        i == 0 ? KeyframeSlam::DrSigma{} : KeyframeSlam::DrSigma{0.015, heading_sigma});
+    CHECK(graph_connected(slam));
+    return slam.accepted_loop_closures();
+  };
+  CHECK(fly(0.5, 0.0002) >= 1);
+  CHECK(fly(1e-4, 0.0002) == 0);
+  CHECK(fly(1e-4, std::nullopt) >= 1);
+}
