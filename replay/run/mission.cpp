@@ -19,9 +19,16 @@ bool same_mission(const replay::FixtureMetadata& m, const MissionSpec& s) {
     const auto it = m.find(k);
     return it == m.end() ? std::string() : it->second;
   };
+  // The defaults' profiles too: a fixture made before a default changed (the sonar profile
+  // on 2026-12-02, the navigation profile on 2026-12-05; fixtures from before either say
+  // nothing, or "ahrs") is another mission, not one to reuse.
+  const sim::SimConfig defaults;
+  const std::string nav = get("nav_profile").empty() ? "ahrs" : get("nav_profile");
+  const std::string sonar = get("profile").empty() ? "clean" : get("profile");
   return get("scene") == s.scene && get("seed") == std::to_string(s.seed) &&
          get("resolution") == sim::resolution_name(s.resolution) &&
          std::abs(std::atof(get("duration_s").c_str()) - s.duration_s) < 1e-6 &&
+         nav == sim::nav_profile_name(defaults.nav_profile) && sonar == sim::profile_name(defaults.profile) &&
          s.sim_config_yaml.empty();  // overrides are not in the metadata: always re-simulate
 }
 

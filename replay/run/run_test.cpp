@@ -207,3 +207,29 @@ TEST_CASE("every configuration key rejects a value outside its range, naming the
   // The documented defaults are inside their ranges.
   CHECK(run::apply_config_yaml("slam: {voxel_m: 0.5, icp: {trim_fraction: 0.8}}\nthreads: 1", c).ok());
 }
+
+TEST_CASE("a mission fixture made with another navigation profile than the default is simulated again, not reused", "[run]") {
+  const fs::path p = run_test_dir() / "harbor_4s_profiles.mcap";
+  fs::remove(p);
+  run::MissionSpec spec;
+  spec.scene = "harbor";
+  spec.duration_s = 4.0;
+  spec.resolution = sim::Resolution::kReduced;
+  spec.render_threads = 1;
+  run::MissionSpec ahrs = spec;
+  ahrs.sim_config_yaml = "nav_profile: ahrs\n";
+  auto made = run::ensure_mission_fixture(ahrs, p.string());
+  REQUIRE(made.ok());
+  CHECK(*made);
+  // The default mission (the paper's vehicle) at the same path: the ahrs fixture is not it.
+  made = run::ensure_mission_fixture(spec, p.string());
+  REQUIRE(made.ok());
+  CHECK(*made);
+  auto fixture = replay::FixtureSource::open(p.string());
+  REQUIRE(fixture.ok());
+  CHECK((*fixture)->metadata().at("nav_profile") == "paper");
+  // Now it is: reused.
+  made = run::ensure_mission_fixture(spec, p.string());
+  REQUIRE(made.ok());
+  CHECK_FALSE(*made);
+}
