@@ -169,7 +169,7 @@ InputSummary summarise(const std::string& path, const Recording* rec, const Reso
 Result<InputSummary> list_input(const std::string& path, const TopicMap& map) {
   auto rec = open_recording(path);
   if (!rec) return rec.error();
-  Resolver res{map, {}, {}};
+  Resolver res{map, {}, {}, {}};
   std::map<std::string, TopicInfo> topics;
   Status s = rec->visit([&](uint32_t id, const SrcChannel& c) { return res.add(id, c, path, false); },
                         [&](const SrcMessage& m) -> Status {
@@ -189,7 +189,7 @@ Result<ImportReport> import_recording(const std::string& in, const std::string& 
   ImportReport report;
 
   // Pass 1: channels, stamps, per-channel order.
-  Resolver res{options.map, {}, {}};
+  Resolver res{options.map, {}, {}, {}};
   struct Stamp {
     int64_t ns;
     uint32_t k;  // the message's index among imported messages, file order
