@@ -165,7 +165,8 @@ TEST_CASE("topics.yaml: the gyro role, mounts.gyro and latitude_deg, and back", 
   CHECK(role_from_name("gyro") == Role::kGyro);
   CHECK(role_name(Role::kGyro) == "gyro");
   CHECK(channel_for(Role::kGyro) == Channel::kGyro);
-  const TopicRule* d = default_topic_map().find("/gyro");
+  const TopicMap defaults = default_topic_map();  // find() points into it: keep it alive
+  const TopicRule* d = defaults.find("/gyro");
   REQUIRE(d != nullptr);
   CHECK(d->role == Role::kGyro);
   CHECK(d->from_defaults);
