@@ -70,14 +70,10 @@ void GyroHeading::add(const GyroReading& r, const ImuAt& imu_at) {
   for (const auto& [t, imu_yaw] : pending_) {
     if (t > r.stamp) break;
     const double s = static_cast<double>((t - (r.stamp - dt)).ns()) / static_cast<double>(dt.ns());
-    align_sum_ += wrap_angle(imu_yaw - (prev + s * d_yaw));
-    ++counts_.aligned;
+    align(imu_yaw - (prev + s * d_yaw));
     ++done;
   }
-  if (done > 0) {
-    pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(done));
-    offset_ = align_sum_ / static_cast<double>(counts_.aligned);
-  }
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(done));
   if (yaw_.size() >= 64) {
     const Time cutoff = yaw_.back().first - Time::from_ns(kGyroKeepNs);
     auto it = std::find_if(yaw_.begin(), yaw_.end(), [&](const auto& e) { return e.first >= cutoff; });
@@ -89,12 +85,16 @@ void GyroHeading::add_imu_heading(Time stamp, double yaw) {
   if (yaw_.empty() || !std::isfinite(yaw) || stamp < last_) return;
   if ((stamp - first_).seconds() > config_.align_s) return;
   if (stamp == last_) {  // at a sample: no interpolation needed
-    align_sum_ += wrap_angle(yaw - yaw_.back().second);
-    ++counts_.aligned;
-    offset_ = align_sum_ / static_cast<double>(counts_.aligned);
+    align(yaw - yaw_.back().second);
     return;
   }
   pending_.emplace_back(stamp, yaw);
+}
+
+void GyroHeading::align(double imu_minus_integrated) {
+  align_sum_ += wrap_angle(imu_minus_integrated);
+  ++counts_.aligned;
+  offset_ = align_sum_ / static_cast<double>(counts_.aligned);
 }
 
 std::optional<double> GyroHeading::yaw_at(Time t) const {

@@ -79,6 +79,7 @@ class GyroHeading {
   double align_sum_ = 0.0;                    // sum of (IMU - integrated) over the window
   std::vector<std::pair<Time, double>> pending_;  // IMU headings past the last gyro sample
   double offset_ = 0.0;                       // added to every integrated heading
+  void align(double imu_minus_integrated);    // one IMU heading into the mean offset
   Time last_;                                 // the last sample integrated or started from
   Time period_;                               // the shortest interval seen: the sample period
 };

@@ -90,6 +90,11 @@ struct SlamConfig {
   // sensors' when the heading is a fibre-optic gyro's, the constant otherwise (a drifting
   // AHRS needs scan matches' translations with its headings: measured there).
   enum class DrSigmaModel : uint8_t { kAuto, kConstant, kSensors };
+  static constexpr DrSigmaModel kDrSigmaModels[] = {DrSigmaModel::kAuto, DrSigmaModel::kConstant,
+                                                    DrSigmaModel::kSensors};
+  static constexpr const char* dr_sigma_model_name(DrSigmaModel m) {
+    return m == DrSigmaModel::kAuto ? "auto" : m == DrSigmaModel::kConstant ? "constant" : "sensors";
+  }
   DrSigmaModel dr_sigma_model = DrSigmaModel::kAuto;
   double dr_translation_sigma_min_m = 0.005;
   Eigen::Vector3d sigma_icp{0.1, 0.1, 0.01};

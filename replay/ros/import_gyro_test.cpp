@@ -34,16 +34,9 @@ const std::string kGyroSep = "\n" + std::string(80, '=') + "\n";
 std::string gyro_dir(const std::string& name) { return testing::case_dir("ros_import_gyro", name, true).string(); }
 
 std::vector<Event> gyro_read_all(const std::string& path) {
-  auto src = FixtureSource::open(path);
-  REQUIRE(src.ok());
-  std::vector<Event> out;
-  for (;;) {
-    auto p = (*src)->next();
-    REQUIRE_FALSE(p.error.has_value());
-    if (!p.event) break;
-    out.push_back(std::move(*p.event));
-  }
-  return out;
+  auto back = testing::read_fixture(path);
+  REQUIRE(back.error.empty());
+  return std::move(back.events);
 }
 
 // Synthetic events the authors' types hold exactly (as import_test.cpp's), with or without gyro.
@@ -72,10 +65,7 @@ std::vector<Event> gyro_events(uint64_t seed, double gyro_rate_hz) {
 }
 
 std::string gyro_write_fixture(const std::string& path, const std::vector<Event>& events, const FixtureMetadata& md) {
-  auto w = FixtureWriter::open(path, md);
-  REQUIRE(w.ok());
-  for (const Event& e : events) REQUIRE((*w)->write(e).ok());
-  REQUIRE((*w)->close().ok());
+  REQUIRE(testing::write_fixture(path, events, md).ok());
   return path;
 }
 

@@ -22,22 +22,12 @@ namespace fs = std::filesystem;
 
 std::string dir_for(const std::string& name) { return testing::case_dir("ros_import", name, true).string(); }
 
-std::vector<uint8_t> file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+std::vector<uint8_t> file_bytes(const std::string& path) { return testing::read_bytes(path); }
 
 std::vector<Event> read_all(const std::string& path) {
-  auto src = FixtureSource::open(path);
-  REQUIRE(src.ok());
-  std::vector<Event> out;
-  for (;;) {
-    auto p = (*src)->next();
-    REQUIRE_FALSE(p.error.has_value());
-    if (!p.event) break;
-    out.push_back(std::move(*p.event));
-  }
-  return out;
+  auto back = testing::read_fixture(path);
+  REQUIRE(back.error.empty());
+  return std::move(back.events);
 }
 
 // Synthetic events as real devices report them, so that the ROS types hold them exactly:
@@ -67,11 +57,8 @@ std::vector<Event> representable_events(uint64_t seed) {
 }
 
 std::string write_fixture(const std::string& path, const std::vector<Event>& events) {
-  FixtureMetadata md{{"T_V_h", "0.25 0 0.1 0 0 0"}, {"T_V_v", "0.25 0 -0.1 1.5707963267948966 0 0"}};
-  auto w = FixtureWriter::open(path, md);
-  REQUIRE(w.ok());
-  for (const Event& e : events) REQUIRE((*w)->write(e).ok());
-  REQUIRE((*w)->close().ok());
+  const FixtureMetadata md{{"T_V_h", "0.25 0 0.1 0 0 0"}, {"T_V_v", "0.25 0 -0.1 1.5707963267948966 0 0"}};
+  REQUIRE(testing::write_fixture(path, events, md).ok());
   return path;
 }
 

@@ -170,12 +170,12 @@ Table root_table(RunConfig& c) {
                       {"loop_loss_scale", kKeys.real(s.loop_loss_scale, 0.0, 1000.0, true)},
                       {"dr_sigma_model", kKeys.choice("auto, constant, sensors",
                                                 [&s](const std::string& v) {
-                                                  using M = slam::SlamConfig::DrSigmaModel;
-                                                  if (v == "auto") s.dr_sigma_model = M::kAuto;
-                                                  else if (v == "constant") s.dr_sigma_model = M::kConstant;
-                                                  else if (v == "sensors") s.dr_sigma_model = M::kSensors;
-                                                  else return false;
-                                                  return true;
+                                                  for (auto m : slam::SlamConfig::kDrSigmaModels)
+                                                    if (v == slam::SlamConfig::dr_sigma_model_name(m)) {
+                                                      s.dr_sigma_model = m;
+                                                      return true;
+                                                    }
+                                                  return false;
                                                 })},
                       {"dr_translation_sigma_min_m", kKeys.real(s.dr_translation_sigma_min_m, 0.0, 1000.0)},
                       {"solver", kKeys.nested([&s] {
@@ -311,9 +311,7 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"heading_link_white_deg", s.heading_link_white_deg},
                 {"loop_loss", slam::loss_name(s.loop_loss)},
                 {"loop_loss_scale", s.loop_loss_scale},
-                {"dr_sigma_model", s.dr_sigma_model == slam::SlamConfig::DrSigmaModel::kAuto       ? "auto"
-                                   : s.dr_sigma_model == slam::SlamConfig::DrSigmaModel::kConstant ? "constant"
-                                                                                                   : "sensors"},
+                {"dr_sigma_model", slam::SlamConfig::dr_sigma_model_name(s.dr_sigma_model)},
                 {"dr_translation_sigma_min_m", s.dr_translation_sigma_min_m},
                 {"solver", {{"max_iterations", s.solver.max_iterations},
                             {"function_tolerance", s.solver.function_tolerance},
