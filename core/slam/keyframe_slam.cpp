@@ -361,12 +361,31 @@ void KeyframeSlam::run_pcm() {
   const std::vector<int> clique = maximum_clique(adj);
   if (static_cast<int>(clique.size()) < config_.min_pcm) return;
   for (int c : clique) {
-    Factor& f = factors_[static_cast<size_t>(pcm_queue_[static_cast<size_t>(c)])];
-    if (!f.accepted) {
-      f.accepted = true;
-      f.reason = "pcm clique of " + std::to_string(clique.size());
+    const size_t i = static_cast<size_t>(pcm_queue_[static_cast<size_t>(c)]);
+    if (!factors_[i].accepted) accept_loop(i, clique.size());
+  }
+}
+
+void KeyframeSlam::accept_loop(size_t factor, size_t clique_size) {
+  Factor& f = factors_[factor];
+  f.accepted = true;
+  f.reason = "pcm clique of " + std::to_string(clique_size);
+  const double ell = config_.loop_correlation_m;
+  if (ell > 0.0) {
+    // Distances between the keyframes' DR positions: fixed once added, so a loop's share
+    // does not move with the estimate, only with the loops accepted after it.
+    const auto at = [this](int k) -> Eigen::Vector2d {
+      return keyframes_[static_cast<size_t>(k)].T_W_V_dr.translation().head<2>();
+    };
+    for (size_t j : accepted_loops_) {
+      Factor& g = factors_[j];
+      const double d = std::max((at(f.from) - at(g.from)).norm(), (at(f.to) - at(g.to)).norm());
+      const double rho = std::exp(-d / ell);
+      f.shared += rho;
+      g.shared += rho;
     }
   }
+  accepted_loops_.push_back(factor);
 }
 
 void KeyframeSlam::solve(int leaf) {
@@ -388,6 +407,7 @@ void KeyframeSlam::solve(int leaf) {
       e.mix *= std::sqrt(f.robust_weight);
       if (leaf < 0) loops.push_back(i);
     }
+    if (f.kind == FactorKind::kLoopClosure) e.mix /= std::sqrt(f.shared);
     edges.push_back(e);
   }
   if (leaf >= 0) {

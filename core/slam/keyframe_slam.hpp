@@ -140,6 +140,15 @@ struct SlamConfig {
   // re-solve costs what a least-squares one does.
   GraphEdge::Loss loop_loss = GraphEdge::Loss::kCauchy;
   double loop_loss_scale = 3.37;  // sqrt of chi-square(0.99, 3): inliers stay quadratic
+  // Option (docs/SLAM.md "Loop closures that share an error"): loops close to one another
+  // match much the same clouds and share most of their error (measured correlation about
+  // exp(-d / 7 m), d the larger of the distances between their anchors and between their new
+  // keyframes), yet each enters the graph as an independent measurement, so a revisit's
+  // weight grows with how densely keyframes are taken. Each accepted loop's information is
+  // divided by sum_j exp(-d_ij / loop_correlation_m) over the accepted loops (itself
+  // included): n loops sharing one error weigh as one. 0 = off (each loop independent), the
+  // default: measured, it changed little (docs/SLAM.md).
+  double loop_correlation_m = 0.0;
   FitInformationConfig fit_information;
   PoseGraphConfig solver;
 };
@@ -165,6 +174,9 @@ struct Factor {
   // whether it has taken part in one (a new loop enters at 1: docs/SLAM.md "Robust losses").
   double robust_weight = 1.0;
   bool solved = false;
+  // Accepted loop closures: how many accepted loops share this one's error (SlamConfig::
+  // loop_correlation_m; 1 = none). The graph divides its information by this.
+  double shared = 1.0;
   Eigen::Matrix3d information() const;  // diag(1/sigma) mixᵀ mix diag(1/sigma)
   Eigen::Matrix3d covariance() const;   // its inverse (unobserved directions: 1e6 × sigma²)
 };
@@ -210,6 +222,7 @@ class KeyframeSlam {
   void loop_closure(int id);
   void run_pcm();
   bool disagrees_with_chain(const Factor& loop) const;  // nssm_max_mahalanobis
+  void accept_loop(size_t factor, size_t clique_size);   // and count the errors it shares
   UncertainSE2 odometry_between(int i, int j) const;  // current estimate + chain covariance
   // The mix of a scan-match factor with these sigmas, from its fit (identity when off).
   void shape(Factor& f, const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target) const;
@@ -238,6 +251,7 @@ class KeyframeSlam {
   // accepted sequential factor between them, informations added); fixed once k is added.
   std::vector<Eigen::Matrix3d> sequential_cov_;
   std::vector<int> pcm_queue_;             // factor indices of the last loop candidates
+  std::vector<size_t> accepted_loops_;     // factor indices of the accepted loop closures
   PoseGraphSummary last_solve_;
   double heading_drift_rad_s_ = 0.0;
   Eigen::Vector3d sigma_dr_ = Eigen::Vector3d::Zero();  // the newest keyframe's DR factor sigma
