@@ -365,3 +365,40 @@ TEST_CASE("With a FOG's DR factor, loops turned from the odometry chain by more 
   CHECK(fly(1e-4, 0.0002) == 0);
   CHECK(fly(1e-4, std::nullopt) >= 1);
 }
+
+TEST_CASE("Loops that share an error: each one's share is the sum of exp(-d / length) over the accepted loops", "[unit]") {
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
+  const auto dr = drifting_odometry(truth, 0.003, 0.0005, 0.02, 9);
+  auto run = [&](double length_m) {
+    SlamConfig config;
+    config.sigma_odometry = Eigen::Vector3d(0.2, 0.2, 0.02);
+    config.loop_correlation_m = length_m;
+    KeyframeSlam slam(config);
+    for (size_t i = 0; i < truth.size(); ++i)
+      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i));
+    return slam;
+  };
+  const KeyframeSlam off = run(0.0), on = run(7.0);
+  REQUIRE(on.accepted_loop_closures() >= 2);
+  for (const auto& f : off.factors())
+    if (f.kind == FactorKind::kLoopClosure) CHECK(f.shared == 1.0);
+  std::vector<const Factor*> loops;
+  for (const auto& f : on.factors())
+    if (f.kind == FactorKind::kLoopClosure && f.accepted) loops.push_back(&f);
+  const auto at = [&](int k) -> Eigen::Vector2d {
+    return on.keyframes()[static_cast<size_t>(k)].T_W_V_dr.translation().head<2>();
+  };
+  double most = 1.0;
+  for (const Factor* f : loops) {
+    double expected = 0.0;
+    for (const Factor* g : loops)
+      expected += std::exp(-std::max((at(f->from) - at(g->from)).norm(), (at(f->to) - at(g->to)).norm()) / 7.0);
+    CHECK(f->shared == Approx(expected).epsilon(1e-12));
+    most = std::max(most, f->shared);
+  }
+  CHECK(most > 1.5);  // loops close together on this route: their weight is shared
+  // Rejected loops share nothing.
+  for (const auto& f : on.factors())
+    if (f.kind == FactorKind::kLoopClosure && !f.accepted) CHECK(f.shared == 1.0);
+}
