@@ -63,4 +63,33 @@ void draw_colour_bar(cv::Mat& image, cv::Rect area, ColourMap map, double lo, do
   }
 }
 
+void draw_plot_axes(cv::Mat& img, cv::Rect area, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
+                    const std::function<cv::Point(const Eigen::Vector2d&)>& px, const std::string& x_label,
+                    const std::string& y_label, const std::string& title) {
+  const cv::Scalar ink(40, 40, 40), grid(228, 228, 228);
+  const auto xt = nice_ticks(lo.x(), hi.x(), 10);
+  const auto yt = nice_ticks(lo.y(), hi.y(), 8);
+  const double xs = xt.size() > 1 ? xt[1] - xt[0] : 1.0, ys = yt.size() > 1 ? yt[1] - yt[0] : 1.0;
+  for (double x : xt) {
+    const int u = px({x, lo.y()}).x;
+    cv::line(img, {u, area.y}, {u, area.y + area.height}, grid, 1);
+    draw_text(img, format_tick(x, xs), {u, area.y + area.height + 18}, 0.55, ink);
+  }
+  for (double y : yt) {
+    const int v = px({lo.x(), y}).y;
+    cv::line(img, {area.x, v}, {area.x + area.width, v}, grid, 1);
+    draw_text(img, format_tick(y, ys), {area.x - 8, v}, 0.55, ink, 1, Align::kRight);
+  }
+  cv::rectangle(img, area, ink, 1);
+  draw_text(img, x_label, {area.x + area.width / 2, area.y + area.height + 50}, 0.7, ink);
+  {
+    cv::Mat label(30, 200, CV_8UC3, cv::Scalar(255, 255, 255));
+    draw_text(label, y_label, {100, 14}, 0.7, ink);
+    cv::Mat rotated;
+    cv::rotate(label, rotated, cv::ROTATE_90_COUNTERCLOCKWISE);
+    rotated.copyTo(img(cv::Rect(4, area.y + area.height / 2 - 100, rotated.cols, rotated.rows)));
+  }
+  draw_text(img, title, {area.x, 28}, 0.9, ink, 2, Align::kLeft);
+}
+
 }  // namespace orthosonar::reports

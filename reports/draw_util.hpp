@@ -1,8 +1,10 @@
 #pragma once
 // Small OpenCV drawing helpers shared by the 2D figures (heat maps, trajectory plots).
+#include <functional>
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "reports/colormap.hpp"
@@ -22,6 +24,12 @@ std::vector<double> nice_ticks(double lo, double hi, int target);
 
 // Formats a number with no more decimals than needed for `step`.
 std::string format_tick(double value, double step);
+
+// The frame of a 2D plot inside `area`: grid lines and tick labels for [lo, hi] on both
+// axes (px maps data to pixels), the axis labels and the title above.
+void draw_plot_axes(cv::Mat& image, cv::Rect area, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
+                    const std::function<cv::Point(const Eigen::Vector2d&)>& px, const std::string& x_label,
+                    const std::string& y_label, const std::string& title);
 
 // A vertical colour bar with ticks from lo to hi inside `area` (bar on the left part).
 void draw_colour_bar(cv::Mat& image, cv::Rect area, ColourMap map, double lo, double hi, const std::string& title);

@@ -1,5 +1,9 @@
 #include "reports/html.hpp"
 
+#include <algorithm>
+
+#include <openssl/evp.h>
+
 namespace orthosonar::reports {
 
 std::string html_escape(const std::string& text) {
@@ -40,10 +44,18 @@ void HtmlDoc::table(const std::vector<std::string>& header, const std::vector<st
   body_ << "</table>\n";
 }
 
-void HtmlDoc::figure(const std::string& relative_path, const std::string& caption) {
-  const std::string p = html_escape(relative_path);
-  body_ << "<figure><a href=\"" << p << "\"><img src=\"" << p << "\" alt=\"" << html_escape(caption)
-        << "\"></a><figcaption>" << html_escape(caption) << "</figcaption></figure>\n";
+std::string base64(const std::vector<uint8_t>& bytes) {
+  std::string out(4 * ((bytes.size() + 2) / 3) + 1, '\0');
+  const int n = EVP_EncodeBlock(reinterpret_cast<unsigned char*>(out.data()), bytes.data(), static_cast<int>(bytes.size()));
+  out.resize(static_cast<size_t>(std::max(n, 0)));
+  return out;
+}
+
+void HtmlDoc::figure(const std::vector<uint8_t>& bytes, const std::string& mime, const std::string& file,
+                     const std::string& caption) {
+  body_ << "<figure><img src=\"data:" << mime << ";base64," << base64(bytes) << "\" alt=\"" << html_escape(caption)
+        << "\" data-file=\"" << html_escape(file) << "\"><figcaption>" << html_escape(caption)
+        << "</figcaption></figure>\n";
 }
 
 void HtmlDoc::begin_gallery() { body_ << "<div class=\"gallery\">\n"; }

@@ -1,5 +1,8 @@
 #include "reports/map_views.hpp"
 
+#include <algorithm>
+
+#include "core/mapping/mesh_distance.hpp"
 #include "reports/nearest.hpp"
 
 namespace orthosonar::reports {
@@ -62,6 +65,27 @@ Result<cv::Mat> render_difference_view(const RunData& run, const std::vector<Eig
   scene.scalar_title = "distance (m)";
   scene.scalar_range = std::make_pair(0.0, max_distance_m);
   scene.mesh = run.mesh ? &*run.mesh : nullptr;
+  scene.title = title;
+  const double aspect = static_cast<double>(config.width_px) / config.height_px;
+  return render_scene(scene, fixed_camera(bounds, view, aspect), config);
+}
+
+Result<cv::Mat> render_mesh_error_view(const RunData& run, const std::vector<Eigen::Vector3f>& map_W,
+                                       double max_distance_m, View view, const Bounds& bounds,
+                                       const std::string& title, const RenderConfig& config) {
+  if (!bounds.valid()) return Error{"render: nothing to frame (no mesh, trajectory or points)"};
+  if (!run.mesh || run.mesh->triangles.empty()) return Error{"distance to the mesh: the run has no truth mesh"};
+  const mapping::MeshDistance mesh(*run.mesh);
+  RenderScene scene;
+  scene.points_W = map_W;
+  scene.scalars.reserve(map_W.size());
+  for (const auto& p : map_W)
+    scene.scalars.push_back(static_cast<float>(std::min(mesh.distance(p.cast<double>()), max_distance_m)));
+  scene.colour_map = ColourMap::kDistance;
+  scene.scalar_title = "distance to mesh (m)";
+  scene.scalar_range = std::make_pair(0.0, max_distance_m);
+  scene.mesh = &*run.mesh;
+  scene.trajectories = trajectories_of(run);
   scene.title = title;
   const double aspect = static_cast<double>(config.width_px) / config.height_px;
   return render_scene(scene, fixed_camera(bounds, view, aspect), config);

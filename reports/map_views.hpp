@@ -34,6 +34,13 @@ Result<cv::Mat> render_difference_view(const RunData& run, const std::vector<Eig
                                        View view, const Bounds& bounds, const std::string& title,
                                        const RenderConfig& config = {});
 
+// `map_W` coloured by each point's distance (m) to the run's truth mesh (exact point to
+// triangle, clamped at max_distance_m), the mesh as overlay, with the trajectories: where
+// the map is wrong. Fails without a mesh.
+Result<cv::Mat> render_mesh_error_view(const RunData& run, const std::vector<Eigen::Vector3f>& map_W,
+                                       double max_distance_m, View view, const Bounds& bounds,
+                                       const std::string& title, const RenderConfig& config = {});
+
 const char* view_name(View view);
 
 }  // namespace orthosonar::reports

@@ -8,10 +8,12 @@
 
 
 #include "hal/codec/image_codec.hpp"
+#include "reports/error_plot.hpp"
 #include "reports/heatmap.hpp"
 #include "reports/html.hpp"
 #include "reports/image_compare.hpp"
 #include "reports/map_views.hpp"
+#include "reports/ping_pair_figure.hpp"
 #include "reports/trajectory_plot.hpp"
 
 namespace orthosonar::reports {
@@ -26,8 +28,14 @@ std::string fixed(double v, int decimals) {
   return buf;
 }
 
-Status save_png(const fs::path& path, const cv::Mat& image) {
-  return codec::write_png(path.string(), image);
+// The PNG's bytes, also written to `path` (every figure is a file beside the report too).
+Result<std::vector<uint8_t>> save_png(const fs::path& path, const cv::Mat& image) {
+  auto png = codec::encode_png(image);
+  if (!png) return png.error();
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f.write(reinterpret_cast<const char*>(png->data()), static_cast<std::streamsize>(png->size()));
+  if (!f) return Error{"cannot write '" + path.string() + "'"};
+  return png;
 }
 
 struct Builder {
@@ -39,16 +47,24 @@ struct Builder {
   Bounds bounds;
   bool can_render = false;
 
-  // Renders into `name`, adds a figure. Render faults become notes, write faults errors.
+  // Renders into `name` (PNG), adds a figure. Render faults become notes, write faults
+  // errors. A photo (sonar speckle: megabytes as PNG) is embedded as JPEG.
   Status figure(const Result<cv::Mat>& image, const std::string& name, const std::string& caption,
-                std::vector<std::string>& notes, cv::Mat* keep = nullptr) {
+                std::vector<std::string>& notes, cv::Mat* keep = nullptr, bool photo = false) {
     if (!image) {
       notes.push_back(name + ": " + image.error().message);
       return Status::Ok();
     }
-    if (auto s = save_png(out / name, *image); !s) return s;
+    auto png = save_png(out / name, *image);
+    if (!png) return png.error();
     if (keep) *keep = *image;
-    doc.figure(name, caption);
+    if (photo) {
+      auto jpeg = codec::encode_jpeg(*image, 88);
+      if (!jpeg) return jpeg.error();
+      doc.figure(*jpeg, "image/jpeg", name, caption);
+    } else {
+      doc.figure(*png, "image/png", name, caption);
+    }
     return Status::Ok();
   }
 };
@@ -104,6 +120,46 @@ Status map_section(Builder& b, std::vector<std::string>& notes) {
   return Status::Ok();
 }
 
+// Where the map is wrong: each system's map coloured by its distance to the truth mesh.
+Status error_map_section(Builder& b, std::vector<std::string>& notes) {
+  if (!b.can_render || !b.run.mesh) return Status::Ok();
+  bool any_map = false;
+  for (const auto& s : b.run.systems) any_map = any_map || (s.has_map && !s.map_W.empty());
+  if (!any_map) return Status::Ok();
+  b.doc.heading("Where the map is wrong");
+  b.doc.paragraph("Each map point coloured by its distance to the ground-truth mesh (exact point to triangle, in "
+                  "metres; the scale saturates at " + fixed(b.options.diff_max_m, 2) + " m). The MAE and RMSE above "
+                  "are these distances, from the map's voxel centroids.",
+                  "meta");
+  b.doc.begin_gallery();
+  for (const auto& s : b.run.systems) {
+    if (!s.has_map || s.map_W.empty()) continue;
+    const std::string name = "error_" + s.name + "_top.png";
+    const std::string title = s.name + " map: distance to the mesh (m)";
+    if (auto st = b.figure(render_mesh_error_view(b.run, s.map_W, b.options.diff_max_m, View::kTop, b.bounds, title,
+                                                  b.render),
+                           name, title + ", top view", notes);
+        !st)
+      return st;
+  }
+  b.doc.end_gallery();
+  return Status::Ok();
+}
+
+// What the sonars saw: the pair with the most fused points.
+Status ping_pair_section(Builder& b, std::vector<std::string>& notes) {
+  if (!b.run.ping_pair) return Status::Ok();
+  const auto& pp = *b.run.ping_pair;
+  b.doc.heading("What the sonars saw");
+  b.doc.paragraph("The ping pair with the most fused points (stamp " + fixed(pp.h.stamp.seconds(), 2) +
+                      " s): the horizontal image from above (forward up), the vertical one from the side (forward "
+                      "right, up up), speckle stretched for display. Dots: CFAR detections; circles: the fused points, "
+                      "each where it came from on both images.",
+                  "meta");
+  return b.figure(draw_ping_pair(pp), "ping_pair.png", "Ping pair with its CFAR detections and fused points", notes,
+                  nullptr, true);
+}
+
 Status trajectory_section(Builder& b, std::vector<std::string>& notes) {
   std::vector<PlotSeries> series;
   auto add = [&](const std::optional<Trajectory>& t, const char* label, Rgb colour) {
@@ -117,7 +173,18 @@ Status trajectory_section(Builder& b, std::vector<std::string>& notes) {
   add(b.run.slam, "SLAM", {0.75, 0.1, 0.75});
   if (series.empty()) return Status::Ok();
   b.doc.heading("Trajectories");
-  return b.figure(draw_trajectory_plot(series), "trajectories.png", "Top view (x-y) of the trajectories", notes);
+  if (auto st = b.figure(draw_trajectory_plot(series), "trajectories.png", "Top view (x-y) of the trajectories", notes);
+      !st)
+    return st;
+  if (!b.run.truth) return Status::Ok();
+  std::vector<ErrorSeries> errors;
+  if (b.run.dr) errors.push_back(trajectory_error_series(*b.run.dr, *b.run.truth, "dead reckoning", dr_colour(), true));
+  if (b.run.slam)
+    errors.push_back(trajectory_error_series(*b.run.slam, *b.run.truth, "SLAM", {0.75, 0.1, 0.75}, true));
+  if (errors.empty()) return Status::Ok();
+  return b.figure(draw_error_over_time(errors), "trajectory_error.png",
+                  "Keyframe position error against the ground truth over time (unaligned, as the ATE; RMS over keyframes)",
+                  notes);
 }
 
 Status sweep_section(Builder& b, std::vector<std::string>& notes) {
@@ -244,7 +311,8 @@ Status write_report(const std::string& run_dir, const std::string& report_dir, c
   doc.paragraph("run directory: " + run_dir, "meta");
   if (!run->input_cut.empty()) doc.paragraph("INCOMPLETE INPUT: " + run->input_cut, "note");
   metrics_tables(*run, doc);
-  for (auto section : {map_section, trajectory_section, sweep_section, golden_section})
+  for (auto section : {map_section, error_map_section, ping_pair_section, trajectory_section, sweep_section,
+                       golden_section})
     if (auto st = section(b, notes); !st) return st;
 
   if (!run->summary.empty()) {

@@ -1,8 +1,9 @@
 #pragma once
-// The review report: one self-contained report.html (inline CSS, no scripts, images as
-// relative PNG paths beside it) with the metrics and runtime tables, the map renders,
-// trajectory plot, coverage heat maps (sweeps), golden comparisons, the fixture summary,
-// software version and digest. Called by `orthosonar report`, `orthosonar sweep` and the
+// The review report: one self-contained report.html (inline CSS, no scripts, every image
+// embedded as a data URI and also written as a PNG beside it) with the metrics and runtime
+// tables, the map renders, the map coloured by its distance to the truth mesh, the ping pair
+// perception saw, the trajectory plot and the trajectory error over time, coverage heat maps
+// (sweeps), golden comparisons, the fixture summary, software version and digest. Called by `orthosonar report`, `orthosonar sweep` and the
 // demo. Deterministic: no timestamps; the same inputs give the same HTML.
 #include <optional>
 #include <string>

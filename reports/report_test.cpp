@@ -5,6 +5,9 @@
 #include <fstream>
 #include <sstream>
 
+#include <openssl/evp.h>
+
+#include "hal/codec/image_codec.hpp"
 #include "reports/render.hpp"
 #include "reports/synthetic_run.hpp"
 #include "reports/test_dir.hpp"
@@ -22,7 +25,41 @@ std::string slurp(const fs::path& p) {
 }
 }  // namespace
 
-TEST_CASE("the report references only files that exist and shows every part", "[report]") {
+// Every src="..." / href="..." value of the HTML, in order.
+std::vector<std::string> link_values(const std::string& html) {
+  std::vector<std::string> out;
+  for (const std::string key : {"src=\"", "href=\""}) {
+    for (size_t pos = html.find(key); pos != std::string::npos; pos = html.find(key, pos + 1)) {
+      const size_t b = pos + key.size();
+      out.push_back(html.substr(b, html.find('"', b) - b));
+    }
+  }
+  return out;
+}
+
+// data-file="..." values: the PNG beside the report each embedded image also is.
+std::vector<std::string> data_files(const std::string& html) {
+  std::vector<std::string> out;
+  const std::string key = "data-file=\"";
+  for (size_t pos = html.find(key); pos != std::string::npos; pos = html.find(key, pos + 1)) {
+    const size_t b = pos + key.size();
+    out.push_back(html.substr(b, html.find('"', b) - b));
+  }
+  return out;
+}
+
+std::vector<uint8_t> from_base64(const std::string& text) {
+  std::vector<uint8_t> out(text.size() / 4 * 3 + 3);
+  const int n = EVP_DecodeBlock(out.data(), reinterpret_cast<const unsigned char*>(text.data()), static_cast<int>(text.size()));
+  REQUIRE(n >= 0);
+  out.resize(static_cast<size_t>(n));
+  size_t pad = 0;  // EVP_DecodeBlock keeps the padding's zero bytes
+  for (size_t i = text.size(); i > 0 && text[i - 1] == '=' && pad < 2; --i) ++pad;
+  out.resize(out.size() - pad);
+  return out;
+}
+
+TEST_CASE("the report is self-contained: every figure embedded, decodable and also written beside it", "[report]") {
   const Status display = check_display();
   if (!display) FAIL(display.error().message);
   const auto dir = testing::test_dir("report_full");
@@ -35,18 +72,40 @@ TEST_CASE("the report references only files that exist and shows every part", "[
   const Status s = write_report((dir / "run").string(), (dir / "report").string(), o);
   REQUIRE(s.ok());
   const std::string html = slurp(dir / "report" / "report.html");
-  const auto files = referenced_files(html);
-  // 3 systems x 2 views, trajectories, 2 heat maps, 3 x (2 comparisons + 2 difference views).
-  CHECK(files.size() == 6 + 1 + 2 + 12);
-  for (const auto& f : files) {
-    INFO(f);
-    CHECK(fs::exists(dir / "report" / f));
-    CHECK(fs::file_size(dir / "report" / f) > 1000);
+  // No reference to a file or a URL: only data URIs.
+  const auto links = link_values(html);
+  for (const auto& v : links) {
+    INFO(v.substr(0, 40));
+    CHECK(v.rfind("data:image/", 0) == 0);
   }
+  CHECK(referenced_files(html).empty());
+  const auto files = data_files(html);
+  // 3 systems x 2 views, 3 distance-to-mesh views, the ping pair, trajectories and their error
+  // over time, 2 heat maps, 3 x (2 comparisons + 2 difference views).
+  CHECK(files.size() == 6 + 3 + 1 + 2 + 2 + 12);
+  REQUIRE(links.size() == files.size());
+  for (size_t i = 0; i < files.size(); ++i) {
+    INFO(files[i]);
+    REQUIRE(fs::exists(dir / "report" / files[i]));
+    CHECK(fs::file_size(dir / "report" / files[i]) > 1000);
+    const std::string& uri = links[i];
+    const bool png = uri.rfind("data:image/png;base64,", 0) == 0;
+    const auto bytes = from_base64(uri.substr(uri.find(',') + 1));
+    auto image = codec::decode_image(bytes, codec::DecodeAs::kBgr, files[i]);
+    REQUIRE(image.ok());
+    CHECK(image->cols > 100);
+    if (png) {
+      const std::string file = slurp(dir / "report" / files[i]);
+      CHECK(bytes == std::vector<uint8_t>(file.begin(), file.end()));  // the same PNG
+    }
+  }
+  for (const std::string name : {"error_fusion_top.png", "ping_pair.png", "trajectory_error.png"})
+    CHECK(std::find(files.begin(), files.end(), name) != files.end());
   const std::vector<std::string> needles = {"Metrics", "Runtime", "slam_update", "synthetic_pilings",
                                             "software version: synthetic", std::string(64, 'f'),
                                             "Comparison with golden", "heatmap_coverage.png", "fixture.counts.sonar_h",
-                                            "configuration used (2 values)", "config.fusion.cfar_pfa"};
+                                            "configuration used (2 values)", "config.fusion.cfar_pfa",
+                                            "Where the map is wrong", "What the sonars saw"};
   for (const auto& needle : needles)
     CHECK(html.find(needle) != std::string::npos);
   CHECK(html.find("<script") == std::string::npos);
@@ -86,7 +145,7 @@ TEST_CASE("the report of the same run is byte-identical HTML", "[report]") {
   const std::string a = slurp(dir / "r1" / "report.html");
   CHECK(a == slurp(dir / "r2" / "report.html"));
   CHECK(a.find("3D renders skipped") != std::string::npos);
-  for (const auto& f : referenced_files(a)) CHECK(fs::exists(dir / "r1" / f));
+  CHECK(referenced_files(a).empty());
   REQUIRE_FALSE(s.ok());
   CHECK(s.error().message.find("xvfb-run") != std::string::npos);
 }

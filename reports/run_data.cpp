@@ -224,6 +224,11 @@ Result<RunData> load_run(const std::string& dir) {
       run.notes.push_back(g.error().message);
     }
   }
+  if (fs::exists(root / "ping_pair")) {
+    auto pp = outputs::read_ping_pair((root / "ping_pair").string());
+    if (pp) run.ping_pair = std::move(pp.value());
+    else run.notes.push_back(pp.error().message);
+  }
   const bool anything = run.truth || run.dr || run.slam || run.mesh || !run.systems.empty() ||
                         !run.summary.empty() || run.grid || !run.digest_overall.empty();
   if (!anything) return Error{"run directory '" + dir + "' holds no outputs the report understands"};

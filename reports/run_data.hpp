@@ -11,6 +11,7 @@
 
 #include "core/mesh.hpp"
 #include "core/result.hpp"
+#include "replay/outputs/ping_pair_io.hpp"
 
 namespace orthosonar::reports {
 
@@ -69,6 +70,7 @@ struct RunData {
   std::string digest_overall;
   std::vector<std::pair<std::string, std::string>> digest_outputs;
   std::optional<Grid> grid;
+  std::optional<outputs::PingPairRecord> ping_pair;           // ping_pair/ (the pair with the most fused points)
   std::vector<std::string> notes;                             // what was missing or unreadable
   std::string input_cut;  // summary.json says the input fixture was cut short: what it held ("" otherwise)
 };

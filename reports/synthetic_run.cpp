@@ -10,6 +10,7 @@
 #include "core/random.hpp"
 #include "hal/sim/mesh_io.hpp"
 #include "replay/outputs/map_writers.hpp"
+#include "replay/outputs/ping_pair_io.hpp"
 #include "reports/run_data.hpp"
 
 namespace orthosonar::reports {
@@ -176,6 +177,36 @@ Status write_synthetic_run(const std::string& dir, const SyntheticRunConfig& con
   digest["overall"] = std::string(64, 'f');
   if (auto s = write_json(root / "digest.json", digest); !s) return s;
 
+  if (config.with_ping_pair) {
+    // A wall 8 m ahead across both fans: an arc on each image, detections on it, and the
+    // fused points where the two apertures share it.
+    auto ping = [](SonarMount mount, uint32_t id) {
+      SonarPing p;
+      p.mount = mount;
+      p.device_id = id;
+      p.stamp = Time::from_seconds(12.5);
+      p.range_resolution_m = 0.1;
+      p.rows = 120;
+      p.cols = 64;
+      for (int c = 0; c < p.cols; ++c) p.bearings_rad.push_back((-65.0 + 130.0 * c / (p.cols - 1)) * std::numbers::pi / 180.0);
+      p.image.assign(static_cast<size_t>(p.rows) * p.cols, 12);
+      for (int c = 0; c < p.cols; ++c) p.image[static_cast<size_t>(79) * p.cols + static_cast<size_t>(c)] = 200;
+      return p;
+    };
+    const SonarPing h = ping(SonarMount::kHorizontal, 101), v = ping(SonarMount::kVertical, 102);
+    perception::FusionResult fused;
+    for (int c = 0; c < h.cols; ++c) fused.detections_h.push_back({79, c, 200.0f});
+    for (int c = 27; c <= 36; ++c) fused.detections_v.push_back({79, c, 200.0f});
+    for (int c = 28; c <= 35; c += 7) {
+      perception::FusedPoint f;
+      f.range_m = 8.0f;
+      f.bearing_rad = static_cast<float>(h.bearings_rad[static_cast<size_t>(c)]);
+      f.elevation_rad = static_cast<float>(v.bearings_rad[static_cast<size_t>(c)]);
+      f.confidence = 0.8f;
+      fused.points.push_back(f);
+    }
+    if (auto s = outputs::write_ping_pair((root / "ping_pair").string(), h, v, fused, 10.0); !s) return s;
+  }
   if (config.with_grid) {
     json cells = json::array();
     for (const auto& sys : systems)

@@ -3,7 +3,7 @@
 // and for trying the report without the pipeline: a seafloor, a row of round pilings and
 // a floating dock (scene_mesh.ply), a loop trajectory (truth, a drifting DR, a SLAM
 // estimate close to truth), per-system maps sampled from the structures' visible sides,
-// metrics.json, summary.json, digest.json and optionally a sweep grid.json.
+// metrics.json, summary.json, digest.json, a ping pair and optionally a sweep grid.json.
 #include <string>
 
 #include "core/result.hpp"
@@ -17,6 +17,7 @@ struct SyntheticRunConfig {
   double drop_fraction = 0.0;   // drops this fraction of map points (lost coverage)
   bool with_grid = true;        // write grid.json (3 rotations x 5 distances x systems)
   bool with_mesh = true;
+  bool with_ping_pair = true;   // ping_pair/: two small images with a wall seen by both
 };
 
 Status write_synthetic_run(const std::string& dir, const SyntheticRunConfig& config = {});

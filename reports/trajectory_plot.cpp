@@ -26,7 +26,7 @@ Result<cv::Mat> draw_trajectory_plot(const std::vector<PlotSeries>& series, cons
   hi += pad;
 
   cv::Mat img(config.height_px, config.width_px, CV_8UC3, cv::Scalar(255, 255, 255));
-  const cv::Scalar ink(40, 40, 40), grid(228, 228, 228);
+  const cv::Scalar ink(40, 40, 40);
   const cv::Rect area(90, 60, config.width_px - 90 - 30, config.height_px - 60 - 80);
   // Equal aspect: one metre is the same number of pixels on both axes.
   const double scale = std::min(area.width / (hi.x() - lo.x()), area.height / (hi.y() - lo.y()));
@@ -39,29 +39,7 @@ Result<cv::Mat> draw_trajectory_plot(const std::vector<PlotSeries>& series, cons
                      area.y + area.height - static_cast<int>(std::lround((p.y() - lo.y()) * scale)));
   };
 
-  const auto xt = nice_ticks(lo.x(), hi.x(), 10);
-  const auto yt = nice_ticks(lo.y(), hi.y(), 8);
-  const double xs = xt.size() > 1 ? xt[1] - xt[0] : 1.0, ys = yt.size() > 1 ? yt[1] - yt[0] : 1.0;
-  for (double x : xt) {
-    const int u = px({x, lo.y()}).x;
-    cv::line(img, {u, area.y}, {u, area.y + area.height}, grid, 1);
-    draw_text(img, format_tick(x, xs), {u, area.y + area.height + 18}, 0.55, ink);
-  }
-  for (double y : yt) {
-    const int v = px({lo.x(), y}).y;
-    cv::line(img, {area.x, v}, {area.x + area.width, v}, grid, 1);
-    draw_text(img, format_tick(y, ys), {area.x - 8, v}, 0.55, ink, 1, Align::kRight);
-  }
-  cv::rectangle(img, area, ink, 1);
-  draw_text(img, "x (m)", {area.x + area.width / 2, area.y + area.height + 50}, 0.7, ink);
-  {
-    cv::Mat label(30, 200, CV_8UC3, cv::Scalar(255, 255, 255));
-    draw_text(label, "y (m)", {100, 14}, 0.7, ink);
-    cv::Mat rotated;
-    cv::rotate(label, rotated, cv::ROTATE_90_COUNTERCLOCKWISE);
-    rotated.copyTo(img(cv::Rect(4, area.y + area.height / 2 - 100, rotated.cols, rotated.rows)));
-  }
-  draw_text(img, config.title, {area.x, 28}, 0.9, ink, 2, Align::kLeft);
+  draw_plot_axes(img, area, lo, hi, px, "x (m)", "y (m)", config.title);
 
   int legend_y = area.y + 24;
   for (const auto& s : series) {

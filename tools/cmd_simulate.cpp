@@ -119,6 +119,7 @@ int run_simulate(const SimulateArgs& a) {
       for (const auto& path : *written) std::printf("wrote %s\n", path.c_str());
     return 0;
   }
+  if (Status s = sim::select_route(*scene, cfg.route); !s) return simulate_fail(s.error().message);
   sim::Simulator simulator(std::move(*scene), cfg);
   run::SimulateOptions so;
   so.out = a.out;

@@ -63,6 +63,12 @@ struct PipelineCounts {
 // Must be a pure function of the pair and safe to call from several threads.
 using FuseFn = std::function<perception::FusionResult(const SonarPing& h, const SonarPing& v)>;
 
+// Sees every pair the pipeline places (after fusion, in stamp order, on the thread that
+// feeds the pipeline): what perception saw, for a tool's view (the report's ping pair).
+// It must not change what the pipeline computes.
+using PairObserver =
+    std::function<void(const SonarPing& h, const SonarPing& v, const perception::FusionResult& fused)>;
+
 class Pipeline {
  public:
   explicit Pipeline(PipelineConfig config = {});
@@ -71,6 +77,7 @@ class Pipeline {
   void set_executor(Executor* executor) { executor_ = executor ? executor : &serial_; }
   void set_clock(const StageClock* clock);
   void set_fusion(FuseFn fuse) { fuse_ = std::move(fuse); }
+  void set_pair_observer(PairObserver observer) { observer_ = std::move(observer); }
 
   void consume(const Event& event);
   // End of stream: pairs every pending ping and processes every pair DR can place.
@@ -107,6 +114,7 @@ class Pipeline {
   Executor* executor_ = &serial_;
   const StageClock* clock_ = nullptr;
   FuseFn fuse_;
+  PairObserver observer_;
   std::deque<PendingPair> pending_;
   std::vector<TruthPose> truth_;
   PipelineCounts counts_;

@@ -48,6 +48,19 @@ void SceneAssembly::debris(int count, double x0, double x1, double y0, double y1
 
 }  // namespace detail
 
+Status select_route(Scene& scene, const std::string& name) {
+  if (name.empty() || name == "default") return {};
+  for (const auto& r : scene.routes) {
+    if (r.name != name) continue;
+    scene.route = r.waypoints;
+    scene.route_name = r.name;
+    return {};
+  }
+  std::string known = "default";
+  for (const auto& r : scene.routes) known += ", " + r.name;
+  return Error{"route '" + name + "' is not a route of scene '" + scene.name + "' (its routes: " + known + ")"};
+}
+
 std::vector<std::string> builtin_scene_names() { return {"marina1", "marina2", "harbor", "aircraft"}; }
 
 Result<Scene> builtin_scene(const std::string& name, uint64_t seed) {

@@ -20,11 +20,20 @@ struct Waypoint {
   friend bool operator==(const Waypoint&, const Waypoint&) = default;
 };
 
+// A route a scene offers besides its default one (SimConfig::route picks it).
+struct NamedRoute {
+  std::string name;
+  std::string description;
+  std::vector<Waypoint> waypoints;
+};
+
 struct Scene {
   std::string name;                 // "harbor", or the YAML's name
   uint64_t seed = 0;                // geometry seed (jitter, seafloor relief, clutter)
   TriangleMesh mesh;                // W frame, z up, surface at z = 0
-  std::vector<Waypoint> route;      // default route at vehicle depth; followed cyclically
+  std::vector<Waypoint> route;      // the route flown, at vehicle depth; followed cyclically
+  std::string route_name = "default";  // which route `route` is (select_route)
+  std::vector<NamedRoute> routes;   // the scene's other routes (built-in: harbor's "survey")
   double vehicle_depth_m = 3.0;     // positive down
   double seafloor_depth_m = 9.0;    // nominal, positive down
   // Where on Earth (degrees north): the Earth rate a fibre-optic gyro senses, sin(latitude)
@@ -35,6 +44,10 @@ struct Scene {
   // fixture's embedded files, the origin recorded there.
   std::string origin;
 };
+
+// Makes the scene fly `name`'s route: "" or "default" keeps its own; another name must be
+// one of scene.routes (the error lists the names there are).
+Status select_route(Scene& scene, const std::string& name);
 
 // The built-in scenes in a fixed order: marina1, marina2, harbor, aircraft.
 std::vector<std::string> builtin_scene_names();

@@ -6,6 +6,7 @@
 
 #include "hal/sim/mesh_io.hpp"
 #include "hal/sim/scene.hpp"
+#include "hal/sim/sim_config.hpp"
 
 namespace orthosonar::sim {
 namespace {
@@ -148,6 +149,38 @@ TEST_CASE("scene files with huge, non-finite or over-fine seafloors are errors n
   CHECK(inf_route.error().message.find("route") != std::string::npos);
   // A large site at a coarse cell is still a scene (200 x 200 cells).
   CHECK(load_text("site.yaml", "seafloor: {x_min_m: 0, x_max_m: 1000, y_min_m: 0, y_max_m: 1000, cell_m: 5.0}\n" + route).ok());
+}
+
+TEST_CASE("harbor offers the survey route, which select_route picks, and names it does not know are refused", "[hal]") {
+  auto harbor = builtin_scene("harbor", 1);
+  REQUIRE(harbor.ok());
+  const auto own = harbor->route;
+  CHECK(harbor->route_name == "default");
+  REQUIRE(select_route(*harbor, "").ok());
+  REQUIRE(select_route(*harbor, "default").ok());
+  CHECK(harbor->route == own);
+  REQUIRE(select_route(*harbor, "survey").ok());
+  CHECK(harbor->route_name == "survey");
+  CHECK(harbor->route != own);
+  CHECK(harbor->route.size() >= 10);
+  const Status bad = select_route(*harbor, "scenic");
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().message.find("scenic") != std::string::npos);
+  CHECK(bad.error().message.find("default, survey") != std::string::npos);
+  auto marina = builtin_scene("marina1", 1);
+  REQUIRE(marina.ok());
+  CHECK_FALSE(select_route(*marina, "survey").ok());  // harbor's, not every scene's
+  // The simulator config's `route` key accepts the names the built-in scenes offer.
+  for (const auto& name : builtin_scene_names()) {
+    auto scene = builtin_scene(name, 1);
+    REQUIRE(scene.ok());
+    for (const auto& r : scene->routes) {
+      INFO(name << " route " << r.name);
+      SimConfig c;
+      CHECK(apply_sim_config_yaml("route: " + r.name + "\n", c).ok());
+      CHECK(c.route == r.name);
+    }
+  }
 }
 
 }  // namespace orthosonar::sim

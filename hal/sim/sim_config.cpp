@@ -290,6 +290,12 @@ Table root_sim_table(SimConfig& c) {
           {"device_id_h", kKeys.integer(c.device_id_h, 0, 4294967295LL)},
           {"device_id_v", kKeys.integer(c.device_id_v, 0, 4294967295LL)},
           {"render_threads", kKeys.integer(c.render_threads, 1, 64)},
+          {"route", kKeys.choice("default, survey (the scene must offer it: survey is harbor's)",
+                                 [&c](const std::string& v) {
+                                   if (v != "default" && v != "survey") return false;
+                                   c.route = v;
+                                   return true;
+                                 })},
           {"sonar", kKeys.nested([&c] { return sonar_table(c.sonar); })},
           {"vehicle", kKeys.nested([&c] { return vehicle_table(c.vehicle); })},
           {"nav", kKeys.nested([&c] { return nav_table(c.nav); })}};

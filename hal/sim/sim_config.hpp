@@ -162,6 +162,10 @@ struct SimConfig {
   uint32_t device_id_h = 101;
   uint32_t device_id_v = 102;
   int render_threads = 1;              // pings rendered ahead in parallel (same bytes for any count)
+  // Which of the scene's routes to fly: "" or "default" its own, or a named one ("survey":
+  // harbor's, the demo's). Applied by sim::select_route where the scene is built, which
+  // refuses a route the scene does not offer.
+  std::string route;
   SonarModelConfig sonar;
   VehicleConfig vehicle;
   NavConfig nav;

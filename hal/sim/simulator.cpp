@@ -280,6 +280,7 @@ std::map<std::string, std::string> Simulator::metadata() const {
   md["labels"] = m.cfg.labels ? "true" : "false";
   md["profile"] = profile_name(m.cfg.profile);
   md["nav_profile"] = nav_profile_name(m.cfg.nav_profile);
+  if (m.scene.route_name != "default") md["route"] = m.scene.route_name;  // missing: the scene's own
   if (m.cfg.nav.gyro_rate_hz > 0.0) {
     md["T_V_gyro"] = format_pose6(m.cfg.T_V_gyro);
     std::snprintf(buf, sizeof buf, "%.17g", m.scene.latitude_deg);

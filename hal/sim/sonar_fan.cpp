@@ -8,7 +8,16 @@
 
 namespace orthosonar::sim {
 
-cv::Mat fan_image(const SonarPing& ping, int width_px) {
+cv::Point2d FanView::pixel(double range_m, double angle_rad) const {
+  const double fwd = range_m * std::cos(angle_rad) / metres_per_px;
+  const double side = range_m * std::sin(angle_rad) / metres_per_px;
+  if (horizontal) return {0.5 * image.cols - 0.5 - side, image.rows - 0.5 - fwd};
+  return {fwd - 0.5, 0.5 * image.rows - 0.5 - side};
+}
+
+cv::Mat fan_image(const SonarPing& ping, int width_px) { return fan_view(ping, width_px).image; }
+
+FanView fan_view(const SonarPing& ping, int width_px) {
   const double rmax = ping.max_range_m();
   const auto& b = ping.bearings_rad;
   const double bmin = b.front(), bmax = b.back();
@@ -37,7 +46,7 @@ cv::Mat fan_image(const SonarPing& ping, int width_px) {
       img.at<uint8_t>(v, u) = static_cast<uint8_t>(ping.bytes_per_pixel == 1 ? val : val >> 8);
     }
   }
-  return img;
+  return {img, scale, horizontal};
 }
 
 Status write_fan_png(const SonarPing& ping, const std::string& path, int width_px, bool with_polar) {

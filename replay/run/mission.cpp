@@ -25,7 +25,8 @@ bool same_mission(const replay::FixtureMetadata& m, const MissionSpec& s) {
   const sim::SimConfig defaults;
   const std::string nav = get("nav_profile").empty() ? "ahrs" : get("nav_profile");
   const std::string sonar = get("profile").empty() ? "clean" : get("profile");
-  return get("scene") == s.scene && get("seed") == std::to_string(s.seed) &&
+  const std::string route = get("route").empty() ? "default" : get("route");
+  return get("scene") == s.scene && route == (s.route.empty() ? "default" : s.route) && get("seed") == std::to_string(s.seed) &&
          get("resolution") == sim::resolution_name(s.resolution) &&
          std::abs(std::atof(get("duration_s").c_str()) - s.duration_s) < 1e-6 &&
          nav == sim::nav_profile_name(defaults.nav_profile) && sonar == sim::profile_name(defaults.profile) &&
@@ -70,7 +71,9 @@ Result<bool> ensure_mission_fixture(const MissionSpec& spec, const std::string& 
   cfg.duration_s = spec.duration_s;
   cfg.seed = spec.seed;
   cfg.resolution = spec.resolution;
+  if (!spec.route.empty()) cfg.route = spec.route;
   if (Status s = sim::validate(cfg); !s.ok()) return s.error();
+  if (Status s = sim::select_route(*scene, cfg.route); !s.ok()) return s.error();
   sim::Simulator simulator(std::move(*scene), cfg);
   std::error_code ec;
   if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty())

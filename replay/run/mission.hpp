@@ -12,6 +12,7 @@ namespace orthosonar::run {
 
 struct MissionSpec {
   std::string scene = "harbor";
+  std::string route;            // "" or "default": the scene's own (sim::select_route)
   double duration_s = 180.0;
   sim::Resolution resolution = sim::Resolution::kFull;
   uint64_t seed = 1;

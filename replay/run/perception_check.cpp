@@ -215,6 +215,7 @@ Status PerceptionCheck::measure_profiles() {
     m.profile = sim::profile_name(sc.profile);
     if (sc.profile != profile) m.note = "(the sim config sets profile: " + m.profile + ")";
     sim::Scene copy = scene_;
+    if (Status s = sim::select_route(copy, sc.route); !s) return s;
     const TriangleMesh mesh = copy.mesh;
     sim::Simulator simulator(std::move(copy), sc);
     if (Status s = measure_source(simulator, cfg, mesh, o_.every, simulator.describe(), m, o_.keep_points); !s)

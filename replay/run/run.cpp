@@ -225,6 +225,12 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
   r.pipeline->set_executor(&pool);
   r.pipeline->set_clock(&clock);
   if (fuse) r.pipeline->set_fusion(fuse);
+  // Pairs arrive in stamp order on this thread: the pair kept is the same for any thread count.
+  auto best = std::make_shared<std::optional<PingPairView>>();
+  r.pipeline->set_pair_observer([best](const SonarPing& h, const SonarPing& v, const perception::FusionResult& f) {
+    if (f.points.empty() || (*best && (*best)->fused.points.size() >= f.points.size())) return;
+    *best = PingPairView{h, v, f};
+  });
   std::vector<const inference::InferenceMapping*> cached;
   for (auto& s : *systems) {
     if (const auto* im = dynamic_cast<const inference::InferenceMapping*>(s.get()); im && options.inference_replay)
@@ -269,6 +275,8 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
     if (control.progress && control.progress_every > 0 && n % control.progress_every == 0) report(t, n);
   }
   r.pipeline->finish();
+  r.pipeline->set_pair_observer({});
+  r.ping_pair = std::move(*best);
   if (control.progress && last) report(*last, n);
   r.stream_span = first ? (*last - *first) : Time();
   for (const auto* im : cached)

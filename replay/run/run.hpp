@@ -130,6 +130,12 @@ struct SystemOutput {
   std::vector<std::pair<std::string, int64_t>> system_counts;  // MappingSystem::system_counts
 };
 
+// One ping pair as perception saw it: both images, every CFAR detection, the fused points.
+struct PingPairView {
+  SonarPing h, v;
+  perception::FusionResult fused;
+};
+
 struct RunOutput {
   std::map<std::string, std::string> metadata;
   RunConfig config;                   // the configuration the run used
@@ -149,6 +155,9 @@ struct RunOutput {
   // summary.json's "input" records both. Live runs leave the path empty.
   std::string input_path;
   replay::RecoveryReport input_recovery;
+  // The pair with the most fused points (the first of equals): the report's "what the
+  // sonars saw" (ping_pair/ in the output directory). Empty when no pair fused a point.
+  std::optional<PingPairView> ping_pair;
 };
 
 // The dead-reckoning start from the mission plan (the scene's first waypoint): fixtures

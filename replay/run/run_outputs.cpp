@@ -1,5 +1,6 @@
 // The output directory of the outputs contract: per-system maps (PCD, PLY, OctoMap) and
-// metrics.json, keyframes.csv, factors.csv, TUM trajectories, scene mesh, summary.json and digest.json.
+// metrics.json, keyframes.csv, factors.csv, TUM trajectories, scene mesh, the ping pair
+// perception saw (ping_pair/), summary.json and digest.json.
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -10,6 +11,7 @@
 #include "hal/sim/mesh_io.hpp"
 #include "orthosonar/version.hpp"
 #include "replay/outputs/map_writers.hpp"
+#include "replay/outputs/ping_pair_io.hpp"
 #include "replay/run/results_mcap.hpp"
 #include "replay/run/run.hpp"
 #include "replay/run/trajectory.hpp"
@@ -157,6 +159,13 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   if (run.mesh)
     if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
   if (Status st = write_results_mcap(run, (out / kResultsMcapFile).string()); !st.ok()) return st;
+  if (run.ping_pair) {
+    const auto& pp = *run.ping_pair;
+    if (Status st = outputs::write_ping_pair((out / "ping_pair").string(), pp.h, pp.v, pp.fused,
+                                                 run.config.pipeline.fusion.overlap_deg); !st.ok()) return st;
+  } else {
+    fs::remove_all(out / "ping_pair", ec);  // an earlier run's pair is not this run's
+  }
 
   nlohmann::json summary;
   nlohmann::json fixture = nlohmann::json::object();

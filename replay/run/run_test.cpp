@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -27,16 +28,22 @@ fs::path run_test_dir() {
   return orthosonar::replay::testing::case_dir("run_api", Catch::getResultCapture().getCurrentTestName());
 }
 
-// A short reduced-resolution harbor mission, simulated once per test process.
+// A short reduced-resolution harbor mission, rendered on one thread.
+run::MissionSpec short_harbor(double duration_s) {
+  run::MissionSpec spec;
+  spec.scene = "harbor";
+  spec.duration_s = duration_s;
+  spec.resolution = sim::Resolution::kReduced;
+  spec.render_threads = 1;
+  return spec;
+}
+
+// One of them, simulated once per test process.
 const std::string& fixture() {
   static const std::string path = [] {
     const fs::path p = run_test_dir() / "harbor_12s.mcap";
-    run::MissionSpec spec;
-    spec.scene = "harbor";
-    spec.duration_s = 12.0;
-    spec.resolution = sim::Resolution::kReduced;
+    run::MissionSpec spec = short_harbor(12.0);
     spec.seed = 3;
-    spec.render_threads = 1;
     auto made = run::ensure_mission_fixture(spec, p.string());
     REQUIRE(made.ok());
     return p.string();
@@ -211,11 +218,7 @@ TEST_CASE("every configuration key rejects a value outside its range, naming the
 TEST_CASE("a mission fixture made with another navigation profile than the default is simulated again, not reused", "[run]") {
   const fs::path p = run_test_dir() / "harbor_4s_profiles.mcap";
   fs::remove(p);
-  run::MissionSpec spec;
-  spec.scene = "harbor";
-  spec.duration_s = 4.0;
-  spec.resolution = sim::Resolution::kReduced;
-  spec.render_threads = 1;
+  const run::MissionSpec spec = short_harbor(4.0);
   run::MissionSpec ahrs = spec;
   ahrs.sim_config_yaml = "nav_profile: ahrs\n";
   auto made = run::ensure_mission_fixture(ahrs, p.string());
@@ -232,4 +235,81 @@ TEST_CASE("a mission fixture made with another navigation profile than the defau
   made = run::ensure_mission_fixture(spec, p.string());
   REQUIRE(made.ok());
   CHECK_FALSE(*made);
+}
+
+TEST_CASE("a mission's route is in its fixture, and a fixture flown on another route is not reused", "[run]") {
+  const fs::path p = run_test_dir() / "harbor_4s_routes.mcap";
+  fs::remove(p);
+  const run::MissionSpec spec = short_harbor(4.0);
+  auto made = run::ensure_mission_fixture(spec, p.string());
+  REQUIRE(made.ok());
+  {
+    auto f = replay::FixtureSource::open(p.string());
+    REQUIRE(f.ok());
+    CHECK((*f)->metadata().count("route") == 0);  // the scene's own route says nothing
+  }
+  run::MissionSpec survey = spec;
+  survey.route = "survey";
+  made = run::ensure_mission_fixture(survey, p.string());
+  REQUIRE(made.ok());
+  CHECK(*made);  // simulated again: the default route's fixture is another mission
+  {
+    auto f = replay::FixtureSource::open(p.string());
+    REQUIRE(f.ok());
+    CHECK((*f)->metadata().at("route") == "survey");
+  }
+  made = run::ensure_mission_fixture(survey, p.string());
+  REQUIRE(made.ok());
+  CHECK_FALSE(*made);  // reused
+  run::MissionSpec unknown = spec;
+  unknown.route = "scenic";
+  made = run::ensure_mission_fixture(unknown, (run_test_dir() / "unknown_route.mcap").string());
+  REQUIRE_FALSE(made.ok());
+  CHECK(made.error().message.find("scenic") != std::string::npos);
+  CHECK(made.error().message.find("survey") != std::string::npos);  // names the routes there are
+}
+
+TEST_CASE("the ping pair kept is the one with the most fused points, the same for any thread count", "[run]") {
+  // The survey route: structure ahead within seconds (the default route's first 12 s fuse nothing).
+  const std::string path = (run_test_dir() / "harbor_survey_12s.mcap").string();
+  run::MissionSpec spec = short_harbor(12.0);
+  spec.route = "survey";
+  REQUIRE(run::ensure_mission_fixture(spec, path).ok());
+  std::optional<run::PingPairView> first;
+  for (int threads : {1, 2}) {
+    run::RunOptions o;
+    o.threads_override = threads;
+    auto r = run::run_fixture(path, o);
+    REQUIRE(r.ok());
+    REQUIRE(r->ping_pair);
+    REQUIRE_FALSE(r->ping_pair->fused.points.empty());
+    if (!first) {
+      first = r->ping_pair;
+      continue;
+    }
+    CHECK(r->ping_pair->h == first->h);
+    CHECK(r->ping_pair->v == first->v);
+    CHECK(r->ping_pair->fused.points.size() == first->fused.points.size());
+  }
+  // The most: every pair's fused count, seen through the pipeline's observer, is at most the kept one's.
+  run::RunOptions o;
+  auto opened = replay::FixtureSource::open(path);
+  REQUIRE(opened.ok());
+  auto eff = run::effective_config((*opened)->metadata(), o, nullptr, (*opened)->attachments());
+  REQUIRE(eff.ok());
+  mapping::Pipeline pipeline(eff->pipeline);
+  size_t most = 0, pairs = 0;
+  pipeline.set_pair_observer([&](const SonarPing&, const SonarPing&, const perception::FusionResult& f) {
+    most = std::max(most, f.points.size());
+    ++pairs;
+  });
+  while (true) {
+    hal::Pulled p = (*opened)->next();
+    REQUIRE_FALSE(p.error);
+    if (p.end_of_stream || !p.event) break;
+    pipeline.consume(*p.event);
+  }
+  pipeline.finish();
+  CHECK(pairs == static_cast<size_t>(pipeline.counts().pairs));
+  CHECK(most == first->fused.points.size());
 }
