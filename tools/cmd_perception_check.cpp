@@ -100,6 +100,12 @@ void print_measured(const MeasuredProfile& r) {
               "MAE %.3f RMSE %.3f, within 0.1 m %.3f\n",
               f.fused, f.pairs, f.err.size(), ratio(d(f.err.size()), d(f.fused)), ff.median, ff.p90, ff.mae, ff.rmse,
               ff.within);
+  // The same by the nearest surface's angle from vertical (issue 34: sloped faces).
+  std::printf("  by surface angle from vertical:");
+  for (const auto& b : mapping::fusion_figures_by_slope(f.err, f.surface_deg))
+    std::printf(" %s%.0f-%.0f deg: %zu points MAE %.3f RMSE %.3f p90 %.3f", b.lo_deg > 0 ? "| " : "", b.lo_deg,
+                b.hi_deg, b.points, b.figures.mae, b.figures.rmse, b.figures.p90);
+  std::printf("\n");
 }
 
 int run_check(CheckArgs a) {

@@ -105,9 +105,12 @@ double MeshDistance::box_distance_sq(const Node& n, const Vector3d& p) {
   return d.squaredNorm();
 }
 
-double MeshDistance::distance(const Vector3d& p) const {
-  if (tris_.empty()) return std::numeric_limits<double>::infinity();
+double MeshDistance::distance(const Vector3d& p) const { return nearest(p).distance; }
+
+MeshDistance::Nearest MeshDistance::nearest(const Vector3d& p) const {
+  if (tris_.empty()) return {std::numeric_limits<double>::infinity(), Vector3d::Zero()};
   double best = std::numeric_limits<double>::infinity();
+  const Tri* best_tri = nullptr;
   std::vector<int32_t> stack;
   stack.reserve(64);
   stack.push_back(0);
@@ -118,7 +121,11 @@ double MeshDistance::distance(const Vector3d& p) const {
     if (n.left < 0) {
       for (int32_t i = n.first; i < n.first + n.count; ++i) {
         const Tri& t = tris_[static_cast<size_t>(i)];
-        best = std::min(best, (closest_point_on_triangle(p, t.a, t.b, t.c) - p).squaredNorm());
+        const double d = (closest_point_on_triangle(p, t.a, t.b, t.c) - p).squaredNorm();
+        if (d < best) {
+          best = d;
+          best_tri = &t;
+        }
       }
       continue;
     }
@@ -133,7 +140,12 @@ double MeshDistance::distance(const Vector3d& p) const {
       stack.push_back(n.right);
     }
   }
-  return std::sqrt(best);
+  Vector3d normal = Vector3d::Zero();
+  if (best_tri) {
+    const Vector3d c = (best_tri->b - best_tri->a).cross(best_tri->c - best_tri->a);
+    if (c.norm() > 0.0) normal = c.normalized();
+  }
+  return {std::sqrt(best), normal};
 }
 
 double MeshDistance::distance_brute_force(const Vector3d& p) const {

@@ -21,6 +21,13 @@ class MeshDistance {
   bool empty() const { return tris_.empty(); }
   // Distance (m) from p to the nearest triangle; +inf for an empty mesh.
   double distance(const Eigen::Vector3d& p) const;
+  // The same with the nearest triangle's unit normal (zero for a degenerate triangle or an
+  // empty mesh); of equally near triangles, the first the search meets (deterministic).
+  struct Nearest {
+    double distance = 0.0;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  };
+  Nearest nearest(const Eigen::Vector3d& p) const;
   // The same by testing every triangle (a test oracle).
   double distance_brute_force(const Eigen::Vector3d& p) const;
 

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/mapping/mesh_distance.hpp"
+#include "core/mapping/perception_metrics.hpp"
 #include "core/random.hpp"
 
 using namespace orthosonar;
@@ -51,6 +52,31 @@ TEST_CASE("BVH distance equals brute force on random meshes", "[unit]") {
     REQUIRE(md.distance(p) == md.distance_brute_force(p));
   }
   CHECK(std::isinf(MeshDistance(TriangleMesh{}).distance({0, 0, 0})));
+}
+
+TEST_CASE("the nearest triangle's normal: a wall's is horizontal, a floor's vertical, a slope's between", "[unit]") {
+  // A 45-degree slope face along x (rising to +y), a vertical wall at x = 10 and a floor at z = -5.
+  TriangleMesh m;
+  m.vertices = {{-5, 0, -2}, {5, 0, -2}, {5, 4, 2}, {-5, 4, 2},        // slope
+                {10, -5, -5}, {10, 5, -5}, {10, 5, 5}, {10, -5, 5},    // wall
+                {-20, -20, -5}, {20, -20, -5}, {20, 20, -5}, {-20, 20, -5}};  // floor
+  for (int q = 0; q < 3; ++q) {
+    m.triangles.emplace_back(4 * q, 4 * q + 1, 4 * q + 2);
+    m.triangles.emplace_back(4 * q, 4 * q + 2, 4 * q + 3);
+  }
+  m.object_id.assign(m.triangles.size(), 1);
+  m.semantic.assign(m.triangles.size(), SemanticClass::kOther);
+  const MeshDistance md(m);
+  auto angle = [&](const Eigen::Vector3d& p) {
+    const MeshDistance::Nearest n = md.nearest(p);
+    CHECK(n.distance == md.distance(p));
+    CHECK(n.normal.norm() == Approx(1.0));
+    return surface_angle_from_vertical_deg(n.normal);
+  };
+  CHECK(angle({0, 1.5, 0.3}) == Approx(45.0).margin(1e-9));  // just above the slope
+  CHECK(angle({9.8, 0, 0}) == Approx(0.0).margin(1e-9));     // beside the wall
+  CHECK(angle({-15, -15, -4.9}) == Approx(90.0).margin(1e-9));  // over the floor
+  CHECK(MeshDistance(TriangleMesh{}).nearest({0, 0, 0}).normal.isZero());
 }
 
 TEST_CASE("voxel centroids and coverage", "[unit]") {

@@ -53,6 +53,25 @@ FusionFigures fusion_figures(const std::vector<double>& err) {
           static_cast<double>(within) / n};
 }
 
+double surface_angle_from_vertical_deg(const Eigen::Vector3d& normal) {
+  return std::asin(std::clamp(std::abs(normal.z()), 0.0, 1.0)) * 180.0 / std::numbers::pi;
+}
+
+std::vector<SlopeBand> fusion_figures_by_slope(const std::vector<double>& err, const std::vector<float>& surface_deg) {
+  std::vector<SlopeBand> bands = {{0.0, 10.0, 0, {}}, {10.0, 30.0, 0, {}}, {30.0, 60.0, 0, {}}, {60.0, 90.0, 0, {}}};
+  std::vector<std::vector<double>> split(bands.size());
+  for (size_t i = 0; i < err.size() && i < surface_deg.size(); ++i) {
+    size_t b = 0;
+    while (b + 1 < bands.size() && surface_deg[i] >= bands[b + 1].lo_deg) ++b;
+    split[b].push_back(err[i]);
+  }
+  for (size_t b = 0; b < bands.size(); ++b) {
+    bands[b].points = split[b].size();
+    bands[b].figures = fusion_figures(split[b]);
+  }
+  return bands;
+}
+
 PerceptionMeter::PerceptionMeter(const perception::FusionConfig& config, const TriangleMesh& mesh, int every,
                                  bool keep_points)
     : cfg_(config),
@@ -121,7 +140,9 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
     if (const auto T_W_V = truth_.at(h.stamp))
       for (const perception::FusedPoint& p : r.points) {
         const Eigen::Vector3d p_W = *T_W_V * p.p_V.cast<double>();
-        f.err.push_back(dist_.distance(p_W));
+        const MeshDistance::Nearest near = dist_.nearest(p_W);
+        f.err.push_back(near.distance);
+        f.surface_deg.push_back(static_cast<float>(surface_angle_from_vertical_deg(near.normal)));
         if (f.keep_points)
           f.points.push_back({p_W.cast<float>(), p.range_m, p.bearing_rad, p.elevation_rad, p.confidence,
                               h.stamp.seconds()});

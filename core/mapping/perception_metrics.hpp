@@ -43,6 +43,9 @@ void tally_image(const SonarPing& ping, const std::vector<uint8_t>& semantic,
 struct FusionTally {
   size_t pairs = 0, fused = 0, subproblems = 0, matches = 0, culled = 0;
   std::vector<double> err;   // distance of each fused point to the mesh, true pose
+  // In err's order: the angle (deg) of the nearest mesh surface from vertical (0 a wall, 90
+  // a flat bottom): the error split by surface slope (issue 34).
+  std::vector<float> surface_deg;
   bool keep_points = false;  // keep each point's fields below, in err's order
   struct Point {
     Eigen::Vector3f p_W;  // true-pose world position
@@ -58,6 +61,20 @@ struct FusionFigures {
   double median, p90, mae, rmse, within;
 };
 FusionFigures fusion_figures(const std::vector<double>& err);
+
+// The same per band of the nearest surface's angle from vertical: [0, 10) walls and piles,
+// [10, 30) steep slopes (the example breakwater's 25° armour faces, a hull's side), [30, 60)
+// slopes (a 1:1.5 rubble mound is 56°, a bilge), [60, 90] near-flat faces and the bottom;
+// with each band's point count.
+struct SlopeBand {
+  double lo_deg, hi_deg;
+  size_t points;
+  FusionFigures figures;
+};
+std::vector<SlopeBand> fusion_figures_by_slope(const std::vector<double>& err, const std::vector<float>& surface_deg);
+
+// A unit normal's surface angle from vertical (deg): asin(|n_z|); 0 for a zero normal.
+double surface_angle_from_vertical_deg(const Eigen::Vector3d& normal);
 
 struct PerceptionMeasurement {
   double gate_h = 0, gate_v = 0;  // the CFAR gates of the configuration measured

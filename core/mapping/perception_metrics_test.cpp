@@ -105,6 +105,28 @@ TEST_CASE("fusion figures of mesh distances", "[unit]") {
   CHECK(std::isnan(fusion_figures({}).median));
 }
 
+TEST_CASE("fusion figures split by the nearest surface's angle from vertical", "[unit]") {
+  const std::vector<double> err = {0.02, 0.04, 0.1, 0.3, 0.5, 0.2, 0.9, 0.05};
+  const std::vector<float> deg = {0.0f, 9.9f, 10.0f, 29.9f, 30.0f, 59.9f, 60.0f, 90.0f};
+  const auto bands = fusion_figures_by_slope(err, deg);
+  REQUIRE(bands.size() == 4);
+  CHECK(bands[0].lo_deg == 0.0);
+  CHECK(bands[3].hi_deg == 90.0);
+  CHECK(bands[0].points == 2);
+  CHECK(bands[0].figures.mae == Approx(0.03));
+  CHECK(bands[1].points == 2);
+  CHECK(bands[1].figures.mae == Approx(0.2));
+  CHECK(bands[2].points == 2);
+  CHECK(bands[2].figures.mae == Approx(0.35));
+  CHECK(bands[3].points == 2);
+  CHECK(bands[3].figures.rmse == Approx(std::sqrt((0.81 + 0.0025) / 2)));
+  // A band without points has NaN figures.
+  const auto none = fusion_figures_by_slope({0.1}, {10.0f});
+  CHECK(none[1].points == 1);
+  CHECK(none[2].points == 0);
+  CHECK(std::isnan(none[2].figures.mae));
+}
+
 TEST_CASE("truth track: truth_pose_at inside, held at the ends, forgets only what is behind", "[unit]") {
   std::vector<TruthPose> truth = {truth_at(Time::from_s(1), 0), truth_at(Time::from_s(2), 1),
                                   truth_at(Time::from_s(3), 4)};

@@ -86,7 +86,19 @@ json measured_json(const MeasuredProfile& r) {
             {"distance_to_mesh_m",
              {{"median", num(ff.median)}, {"p90", num(ff.p90)}, {"mae", num(ff.mae)}, {"rmse", num(ff.rmse)}},
             },
-            {"within_0_1m", num(ff.within)}}}};
+            {"within_0_1m", num(ff.within)},
+            {"by_surface_angle_from_vertical", [&f] {
+               json bands = json::array();
+               for (const auto& b : mapping::fusion_figures_by_slope(f.err, f.surface_deg))
+                 bands.push_back({{"from_deg", b.lo_deg},
+                                  {"to_deg", b.hi_deg},
+                                  {"points", b.points},
+                                  {"median", num(b.figures.median)},
+                                  {"p90", num(b.figures.p90)},
+                                  {"mae", num(b.figures.mae)},
+                                  {"rmse", num(b.figures.rmse)}});
+               return bands;
+             }()}}}};
 }
 
 json real_ping_json(const RealPing& r, double gate) {
@@ -275,13 +287,15 @@ std::string cloud_path_for(const std::string& path, const std::string& label, si
 
 Status write_cloud(const std::string& path, const mapping::FusionTally& f) {
   std::vector<Eigen::Vector3f> xyz;
-  std::vector<sim::PlyScalar> scalars = {{"distance_m", {}}, {"range_m", {}},      {"bearing_deg", {}},
-                                         {"elevation_deg", {}}, {"confidence", {}}, {"stamp_s", {}}};
+  std::vector<sim::PlyScalar> scalars = {{"distance_m", {}},    {"range_m", {}},    {"bearing_deg", {}},
+                                         {"elevation_deg", {}}, {"confidence", {}}, {"stamp_s", {}},
+                                         {"surface_deg", {}}};
   constexpr double kDeg = 180.0 / std::numbers::pi;
   for (size_t i = 0; i < f.points.size(); ++i) {
     const mapping::FusionTally::Point& p = f.points[i];
     xyz.push_back(p.p_W);
-    const double values[] = {f.err[i], p.range_m, p.bearing_rad * kDeg, p.elevation_rad * kDeg, p.confidence, p.stamp_s};
+    const double values[] = {f.err[i],   p.range_m, p.bearing_rad * kDeg, p.elevation_rad * kDeg,
+                             p.confidence, p.stamp_s, f.surface_deg[i]};
     for (size_t k = 0; k < scalars.size(); ++k) scalars[k].values.push_back(static_cast<float>(values[k]));
   }
   return sim::write_ply_points(xyz, scalars, "orthosonar perception-check: fused points placed with the true pose",
