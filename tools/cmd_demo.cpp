@@ -75,17 +75,11 @@ int run_demo(const DemoOptions& o) {
   MissionSpec spec;
   spec.scene = o.scene;
   spec.route = o.route;
-  if (spec.route.empty()) {
-    // The demo flies a route that keeps structure ahead of the pair (the scene's "survey"),
-    // where the scene has one.
-    auto scene = sim::builtin_scene(o.scene, spec.seed);
-    if (!scene.ok()) {
-      std::cerr << "orthosonar demo: " << scene.error().message << "\n";
-      return 2;
-    }
-    for (const auto& r : scene->routes)
-      if (r.name == "survey") spec.route = r.name;
-  }
+  // The demo flies a route that keeps structure ahead of the pair (the scene's "survey"),
+  // where the scene has one.
+  if (spec.route.empty())
+    for (const auto& r : sim::builtin_route_names(o.scene))
+      if (r == "survey") spec.route = r;
   spec.duration_s = o.duration_s;
   auto res = sim::parse_resolution(o.resolution);
   if (!res.ok()) {

@@ -1,5 +1,6 @@
 #include "hal/sim/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -61,6 +62,26 @@ Status select_route(Scene& scene, const std::string& name) {
   return Error{"route '" + name + "' is not a route of scene '" + scene.name + "' (its routes: " + known + ")"};
 }
 
+namespace {
+
+// The built-in scenes' named routes, one table for the scenes and the names.
+struct BuiltinRoute {
+  const char* scene;
+  const char* name;
+  std::vector<Waypoint> (*waypoints)();
+};
+const BuiltinRoute kBuiltinRoutes[] = {{"harbor", "survey", detail::harbor_survey_route}};
+
+}  // namespace
+
+std::vector<std::string> builtin_route_names(const std::string& scene) {
+  std::vector<std::string> out;
+  for (const auto& r : kBuiltinRoutes)
+    if ((scene.empty() || scene == r.scene) && std::find(out.begin(), out.end(), r.name) == out.end())
+      out.push_back(r.name);
+  return out;
+}
+
 std::vector<std::string> builtin_scene_names() { return {"marina1", "marina2", "harbor", "aircraft"}; }
 
 Result<Scene> builtin_scene(const std::string& name, uint64_t seed) {
@@ -73,6 +94,8 @@ Result<Scene> builtin_scene(const std::string& name, uint64_t seed) {
   s.name = name;
   s.seed = seed;
   s.origin = name;
+  for (const auto& r : kBuiltinRoutes)
+    if (name == r.scene) s.routes.push_back({r.name, r.waypoints()});
   return s;
 }
 

@@ -23,7 +23,6 @@ struct Waypoint {
 // A route a scene offers besides its default one (SimConfig::route picks it).
 struct NamedRoute {
   std::string name;
-  std::string description;
   std::vector<Waypoint> waypoints;
 };
 
@@ -48,6 +47,10 @@ struct Scene {
 // Makes the scene fly `name`'s route: "" or "default" keeps its own; another name must be
 // one of scene.routes (the error lists the names there are).
 Status select_route(Scene& scene, const std::string& name);
+
+// The named routes of a built-in scene (harbor: "survey"), or of all of them with `scene`
+// empty, without building a scene: the demo's choice and the `route` key's valid names.
+std::vector<std::string> builtin_route_names(const std::string& scene = "");
 
 // The built-in scenes in a fixed order: marina1, marina2, harbor, aircraft.
 std::vector<std::string> builtin_scene_names();

@@ -174,6 +174,9 @@ TEST_CASE("harbor offers the survey route, which select_route picks, and names i
   for (const auto& name : builtin_scene_names()) {
     auto scene = builtin_scene(name, 1);
     REQUIRE(scene.ok());
+    std::vector<std::string> offered;
+    for (const auto& r : scene->routes) offered.push_back(r.name);
+    CHECK(offered == builtin_route_names(name));  // named without building the scene
     for (const auto& r : scene->routes) {
       INFO(name << " route " << r.name);
       SimConfig c;

@@ -27,6 +27,7 @@ struct SceneAssembly {
 Scene build_marina1(uint64_t seed);
 Scene build_marina2(uint64_t seed);
 Scene build_harbor(uint64_t seed);
+std::vector<Waypoint> harbor_survey_route();  // the harbor's "survey" (builtin_route_names)
 Scene build_aircraft(uint64_t seed);
 
 }  // namespace orthosonar::sim::detail

@@ -118,6 +118,16 @@ void bomber(SceneAssembly& a, const SE3& T) {
 
 }  // namespace
 
+// The demo's survey (issue 38): the pair fuses only what lies ahead, within the ±10° the two
+// apertures share, so this route keeps structure ahead. A sawtooth along the sailing ship's
+// side (each north-east leg runs at the hull), then at the pier's pilings, north at the quay
+// wall, round the pier head at the cruiser's end and north again at the quay between pier and
+// cruiser; home along the outer side.
+std::vector<Waypoint> harbor_survey_route() {
+  return {{-60, -32}, {-54, -21}, {-49, -29}, {-43, -20}, {-38, -28}, {-32, -20}, {-27, -28}, {-21, -19}, {-14, -14},
+          {-13, -6},  {-14, -22}, {-8, -37},  {2, -31},   {3, -12},   {5, -30},   {-20, -42}, {-60, -42}};
+}
+
 Scene build_harbor(uint64_t seed) {
   SceneAssembly a;
   a.scene.seed = seed;
@@ -127,15 +137,6 @@ Scene build_harbor(uint64_t seed) {
   // Starts 30 m along the first leg, where the docks come into the overlap within seconds.
   a.scene.route = {{-45, -24}, {-20, -24}, {-12, -37}, {5, -38},   {60, -34}, {100, -34}, {116, -45},
                    {60, -49},  {5, -47},   {-14, -44}, {-32, -31}, {-70, -31}, {-75, -24}, {-45, -24}};
-  // The demo's survey (issue 38): the pair fuses only what lies ahead, within the ±10° the
-  // two apertures share, so this route keeps structure ahead. A sawtooth along the sailing
-  // ship's side (each north-east leg runs at the hull), then at the pier's pilings, north at
-  // the quay wall, round the pier head at the cruiser's end and north again at the quay
-  // between pier and cruiser; home along the outer side.
-  a.scene.routes.push_back(
-      {"survey", "faces the sailing ship, the pier, the quay and the cruiser's end (the demo's route)",
-       {{-60, -32}, {-54, -21}, {-49, -29}, {-43, -20}, {-38, -28}, {-32, -20}, {-27, -28}, {-21, -19}, {-14, -14},
-        {-13, -6}, {-14, -22}, {-8, -37}, {2, -31}, {3, -12}, {5, -30}, {-20, -42}, {-60, -42}}});
   a.seafloor(-130, 160, -85, 1, 0.5);
   Rng rng(derive_seed(seed, 0x484152424full));
   // The long quay: corrugated sheet piling along y = 0 with a concrete cap.

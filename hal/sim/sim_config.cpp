@@ -258,6 +258,17 @@ Table nav_table(NavConfig& n) {
           {"gyro_bias_dph", kKeys.real(n.gyro_bias_dph, 0.0, 3600.0)}};
 }
 
+// "default, survey (the scene must offer it: survey is harbor's)" from the built-in routes.
+std::string route_choices() {
+  std::string names = "default", whose;
+  for (const auto& scene : builtin_scene_names())
+    for (const auto& r : builtin_route_names(scene)) {
+      names += ", " + r;
+      whose += (whose.empty() ? "" : ", ") + r + " is " + scene + "'s";
+    }
+  return names + " (the scene must offer it" + (whose.empty() ? "" : ": " + whose) + ")";
+}
+
 Table root_sim_table(SimConfig& c) {
   return {{"duration_s", kKeys.real(c.duration_s, 0.0, kSimMaxDurationS, true)},
           {"seed", sim_seed(c.seed)},
@@ -290,9 +301,11 @@ Table root_sim_table(SimConfig& c) {
           {"device_id_h", kKeys.integer(c.device_id_h, 0, 4294967295LL)},
           {"device_id_v", kKeys.integer(c.device_id_v, 0, 4294967295LL)},
           {"render_threads", kKeys.integer(c.render_threads, 1, 64)},
-          {"route", kKeys.choice("default, survey (the scene must offer it: survey is harbor's)",
+          {"route", kKeys.choice(route_choices(),
                                  [&c](const std::string& v) {
-                                   if (v != "default" && v != "survey") return false;
+                                   const auto names = builtin_route_names();
+                                   if (v != "default" && std::find(names.begin(), names.end(), v) == names.end())
+                                     return false;
                                    c.route = v;
                                    return true;
                                  })},
