@@ -20,16 +20,29 @@ void Pipeline::set_clock(const StageClock* clock) {
   for (auto& s : systems_) s->set_clock(clock);
 }
 
+void Pipeline::consume(Event&& event) {
+  if (event.channel == Channel::kSonarHorizontal || event.channel == Channel::kSonarVertical)
+    if (auto* p = std::get_if<SonarPing>(&event.payload)) {
+      ++counts_.events;
+      take_ping(std::move(*p));
+      process_ready(false);
+      return;
+    }
+  consume(static_cast<const Event&>(event));
+}
+
+void Pipeline::take_ping(SonarPing ping) {
+  ++(ping.mount == SonarMount::kHorizontal ? counts_.sonar_h : counts_.sonar_v);
+  pairer_.push(std::move(ping));
+  drain_pairer();
+}
+
 void Pipeline::consume(const Event& event) {
   ++counts_.events;
   switch (event.channel) {
     case Channel::kSonarHorizontal:
     case Channel::kSonarVertical:
-      if (const auto* p = std::get_if<SonarPing>(&event.payload)) {
-        ++(p->mount == SonarMount::kHorizontal ? counts_.sonar_h : counts_.sonar_v);
-        pairer_.push(*p);
-        drain_pairer();
-      }
+      if (const auto* p = std::get_if<SonarPing>(&event.payload)) take_ping(*p);
       break;
     case Channel::kImu:
       if (const auto* r = std::get_if<ImuReading>(&event.payload)) {

@@ -1,6 +1,9 @@
 // Fusion against constructions with a known answer: point targets at known (R, θ, φ)
 // rendered into both polar images on a noise background.
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <rapidcheck.h>
+#include <rapidcheck/catch.h>
 #include <cmath>
 #include <numbers>
 
@@ -230,4 +233,35 @@ TEST_CASE("noise_floor_factor drops candidates under the local noise floor (larg
   CHECK(gated.points[1].range_m == Approx(h.range_of_row(185)));
   cfg.noise_floor_rows = 0;  // only the row's own median: row 147's floor is 5
   CHECK(fuse_pair(h, v, cfg).points.size() == 3);
+}
+
+TEST_CASE("RowMedians is each row's lower median, 8- and 16-bit, on random images", "[unit][property]") {
+  rc::prop("RowMedians(row) == nth_element's lower median", [] {
+    const int bpp = *rc::gen::element(1, 2);
+    const int rows = *rc::gen::inRange(1, 6), cols = *rc::gen::inRange(1, 700);
+    // Few distinct values (speckle-like ties) or the full range.
+    const int top = *rc::gen::element(3, 255, 65535);
+    SonarPing p;
+    p.rows = static_cast<uint16_t>(rows);
+    p.cols = static_cast<uint16_t>(cols);
+    p.bytes_per_pixel = static_cast<uint8_t>(bpp);
+    const int vmax = bpp == 1 ? std::min(top, 255) : top;
+    const auto px = *rc::gen::container<std::vector<int>>(static_cast<size_t>(rows * cols), rc::gen::inRange(0, vmax + 1));
+    p.image.resize(px.size() * static_cast<size_t>(bpp));
+    for (size_t i = 0; i < px.size(); ++i) {
+      if (bpp == 1) {
+        p.image[i] = static_cast<uint8_t>(px[i]);
+      } else {
+        p.image[2 * i] = static_cast<uint8_t>(px[i] & 0xff);
+        p.image[2 * i + 1] = static_cast<uint8_t>(px[i] >> 8);
+      }
+    }
+    RowMedians med(p);
+    for (int r = 0; r < rows; ++r) {
+      std::vector<int> line(px.begin() + r * cols, px.begin() + (r + 1) * cols);
+      const auto mid = line.begin() + (cols - 1) / 2;
+      std::nth_element(line.begin(), mid, line.end());
+      RC_ASSERT(med(r) == static_cast<double>(*mid));
+    }
+  });
 }

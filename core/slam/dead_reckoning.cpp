@@ -11,20 +11,20 @@ namespace {
 // Readings older than this behind the newest are no longer needed for interpolation.
 constexpr int64_t kKeepNs = 10'000'000'000;
 
+// Drops readings older than kKeepNs before the newest, keeping one before the cutoff as an
+// interpolation anchor (once 64 or more are held). A deque: one pop per reading, where a
+// vector's erase at the front moved every reading kept (issue 37).
 template <class V>
-void prune(std::vector<std::pair<Time, V>>& series) {
+void prune(std::deque<std::pair<Time, V>>& series) {
   if (series.size() < 64) return;
   const Time cutoff = series.back().first - Time::from_ns(kKeepNs);
-  auto it = std::find_if(series.begin(), series.end(), [&](const auto& e) { return e.first >= cutoff; });
-  if (it != series.begin() && it != series.end()) {
-    --it;  // keep one reading before the cutoff as an interpolation anchor
-    series.erase(series.begin(), it);
-  }
+  if (series.front().first >= cutoff) return;
+  while (series.size() >= 2 && series[1].first < cutoff) series.pop_front();
 }
 
 // Index i with series[i].first <= t < series[i+1].first, clamped to the ends.
 template <class V>
-size_t bracket(const std::vector<std::pair<Time, V>>& series, Time t) {
+size_t bracket(const std::deque<std::pair<Time, V>>& series, Time t) {
   auto it = std::upper_bound(series.begin(), series.end(), t,
                              [](Time a, const auto& e) { return a < e.first; });
   if (it == series.begin()) return 0;

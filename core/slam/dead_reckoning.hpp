@@ -9,6 +9,7 @@
 // Feed events in stamp order (SPEC §9). A DVL reading before the first IMU reading cannot
 // be rotated into W and is skipped (counted in dvl_before_imu). Not thread-safe.
 #include <cstddef>
+#include <deque>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -113,13 +114,13 @@ class DeadReckoning {
   std::vector<State> states_;
   Time dvl_first_;        // the first DVL reading's stamp (the interval's mean: span / count)
   size_t dvl_readings_ = 0;
-  std::vector<std::pair<Time, Quat>> imu_;      // recent (filtered) IMU orientations (pruned)
+  std::deque<std::pair<Time, Quat>> imu_;       // recent (filtered) IMU orientations (pruned)
   Vec3 rpy_filtered_ = Vec3::Zero();            // attitude filter state
   Time imu_last_;
   bool have_filter_ = false;
   bool rates_seen_ = false;                     // some reading had non-zero gyro rates
   GyroHeading gyro_;
-  std::vector<std::pair<Time, double>> depth_;  // recent depth readings (pruned)
+  std::deque<std::pair<Time, double>> depth_;   // recent depth readings (pruned)
   Vec2 xy_ = Vec2::Zero();
   Vec3 v_W_prev_ = Vec3::Zero();   // W velocity used at the previous state
   Vec3 v_V_good_ = Vec3::Zero();   // last good body velocity

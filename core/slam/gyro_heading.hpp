@@ -16,6 +16,7 @@
 // (lost or skipped samples: more than half a sample period missing) is taken from the
 // IMU's heading change over it and counted. Not thread-safe.
 #include <cstddef>
+#include <deque>
 #include <functional>
 #include <optional>
 #include <utility>
@@ -74,7 +75,7 @@ class GyroHeading {
   Eigen::Matrix3d R_V_G_;
   Vec3 earth_W_;
   GyroCounts counts_;
-  std::vector<std::pair<Time, double>> yaw_;  // (stamp, unwrapped heading), recent (pruned)
+  std::deque<std::pair<Time, double>> yaw_;   // (stamp, unwrapped heading), recent (pruned)
   Time first_;                                // the first sample integrated
   double align_sum_ = 0.0;                    // sum of (IMU - integrated) over the window
   std::vector<std::pair<Time, double>> pending_;  // IMU headings past the last gyro sample

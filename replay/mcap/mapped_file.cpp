@@ -10,6 +10,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <vector>
+
+#include "replay/mcap/mcap_format.hpp"
 
 namespace orthosonar::replay::mcap {
 
@@ -33,7 +36,7 @@ Result<std::unique_ptr<MappedFile>> MappedFile::open(const std::string& path) {
     ::madvise(p, f->size_, MADV_SEQUENTIAL);
     f->data_ = static_cast<const uint8_t*>(p);
   }
-  ::close(fd);
+  f->fd_ = fd;  // kept for crc32's reads
   return f;
 }
 
@@ -46,8 +49,39 @@ void MappedFile::release(uint64_t offset, uint64_t n) const {
   ::madvise(const_cast<uint8_t*>(data_) + begin, end - begin, MADV_DONTNEED);
 }
 
+uint32_t MappedFile::crc32(uint32_t crc, uint64_t offset, uint64_t n) const {
+  if (offset >= size_) return crc;
+  n = std::min<uint64_t>(n, size_ - offset);
+  constexpr uint64_t kBlock = uint64_t{1} << 20;
+  if (n < kBlock || fd_ < 0) return mcap::crc32(crc, data_ + offset, n);
+  std::vector<uint8_t> buf(kBlock);
+  while (n > 0) {
+    const uint64_t want = std::min(n, kBlock);
+    const ssize_t got = ::pread(fd_, buf.data(), want, static_cast<off_t>(offset));
+    if (got <= 0) return mcap::crc32(crc, data_ + offset, n);  // the map has the same bytes
+    crc = mcap::crc32(crc, buf.data(), static_cast<size_t>(got));
+    offset += static_cast<uint64_t>(got);
+    n -= static_cast<uint64_t>(got);
+  }
+  return crc;
+}
+
+const uint8_t* MappedFile::bytes(uint64_t offset, uint64_t n, std::vector<uint8_t>& buf) const {
+  constexpr uint64_t kLarge = uint64_t{256} << 10;
+  if (n < kLarge || fd_ < 0) return data_ + offset;
+  buf.resize(n);
+  uint64_t done = 0;
+  while (done < n) {
+    const ssize_t got = ::pread(fd_, buf.data() + done, n - done, static_cast<off_t>(offset + done));
+    if (got <= 0) return data_ + offset;  // the map has the same bytes
+    done += static_cast<uint64_t>(got);
+  }
+  return buf.data();
+}
+
 MappedFile::~MappedFile() {
   if (data_ != nullptr) ::munmap(const_cast<uint8_t*>(data_), size_);
+  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace orthosonar::replay::mcap

@@ -73,7 +73,7 @@ struct RecordHead {
 // trailing_footer): then it, and a record running into the footer, is an error.
 Result<RecordHead> record_head(const MappedFile& f, uint64_t pos, uint64_t footer_pos);
 
-// Bytes read front to back: the running data section CRC, and releasing what was read
+// Bytes read front to back: how far the data section goes, and releasing what was read
 // every few MiB (MappedFile::release), so a long file is never resident as a whole.
 class Progress {
  public:
@@ -84,9 +84,10 @@ class Progress {
   Status check_data_end(uint64_t pos, const uint8_t* body, uint64_t len) const;
 
  private:
+  uint32_t data_crc() const;  // of [0, crc_end_)
+
   const MappedFile& f_;
-  uint32_t data_crc_ = 0;
-  uint64_t crc_end_ = 0;   // data_crc_ covers [0, crc_end_)
+  uint64_t crc_end_ = 0;   // the data section read so far: [0, crc_end_)
   uint64_t released_ = 0;  // [0, released_) released
 };
 

@@ -209,19 +209,33 @@ J time_json(Time t) {
   return J{{"sec", ns / 1'000'000'000u}, {"nsec", ns % 1'000'000'000u}};
 }
 
+// Poses are written as JSON text directly: a run has one truth pose per sensor stamp (63,000
+// in 600 s), and as nlohmann objects (a map node per key, copied into the trajectory
+// message) they took 0.9 s and about 190 MB at the end of a full-resolution replay. The
+// text is what nlohmann's dump gives for the same objects (keys in std::map order, numbers
+// through its own serializer), byte for byte (results_mcap_test compares them).
+std::string json_number(double v) { return Json(v).dump(); }
+
+struct PoseText {
+  std::string position, orientation;  // {"x":..,"y":..,"z":..} and {"w":..,"x":..,"y":..,"z":..}
+};
+
 // Unit quaternion with w >= 0 (one representation per rotation, as the TUM files write).
-Json quat_json(Eigen::Quaterniond q) {
+PoseText pose_text(const Eigen::Vector3d& p, Eigen::Quaterniond q) {
   q.normalize();
   if (q.w() < 0) q.coeffs() = -q.coeffs();
-  return {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}};
+  PoseText t;
+  t.position = "{\"x\":" + json_number(p.x()) + ",\"y\":" + json_number(p.y()) + ",\"z\":" + json_number(p.z()) + "}";
+  t.orientation =
+      "{\"w\":" + json_number(q.w()) + ",\"x\":" + json_number(q.x()) + ",\"y\":" + json_number(q.y()) + ",\"z\":" + json_number(q.z()) + "}";
+  return t;
 }
+PoseText pose_text(const SE3& T) { return pose_text(T.translation(), Eigen::Quaterniond(T.rotation())); }
 
-Json vec_json(const Eigen::Vector3d& p) { return {{"x", p.x()}, {"y", p.y()}, {"z", p.z()}}; }
-
-Json pose_json(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
-  return {{"position", vec_json(p)}, {"orientation", quat_json(q)}};
+std::string time_text(Time t) {
+  const uint64_t ns = log_ns(t);
+  return "{\"nsec\":" + std::to_string(ns % 1'000'000'000u) + ",\"sec\":" + std::to_string(ns / 1'000'000'000u) + "}";
 }
-Json pose_json(const SE3& T) { return pose_json(T.translation(), Eigen::Quaterniond(T.rotation())); }
 
 template <typename J>
 J identity_pose() {
@@ -264,13 +278,28 @@ Json point_cloud_json(const std::vector<Eigen::Vector3f>& points_W, Time stamp) 
           {"point_stride", 12},                  {"fields", std::move(fields)}, {"data", base64(bytes)}};
 }
 
-Json poses_json(const std::vector<Json>& poses, Time stamp) {
-  return {{"timestamp", time_json<Json>(stamp)}, {"frame_id", kWorld}, {"poses", poses}};
+// foxglove.PosesInFrame.
+std::string poses_text(const std::vector<PoseText>& poses, Time stamp) {
+  std::string out = "{\"frame_id\":\"" + std::string(kWorld) + "\",\"poses\":[";
+  size_t size = out.size() + 64;
+  for (const PoseText& p : poses) size += p.position.size() + p.orientation.size() + 32;
+  out.reserve(size);  // one allocation: the truth trajectory is 12 MB of text
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (i > 0) out += ',';
+    out += "{\"orientation\":";
+    out += poses[i].orientation;
+    out += ",\"position\":";
+    out += poses[i].position;
+    out += '}';
+  }
+  return out + "],\"timestamp\":" + time_text(stamp) + "}";
 }
 
-Json transform_json(Time stamp, const std::string& child, const Json& pose) {
-  return {{"timestamp", time_json<Json>(stamp)}, {"parent_frame_id", kWorld}, {"child_frame_id", child},
-          {"translation", pose["position"]},     {"rotation", pose["orientation"]}};
+// foxglove.FrameTransform.
+std::string transform_text(Time stamp, const std::string& child, const PoseText& pose) {
+  return "{\"child_frame_id\":\"" + child + "\",\"parent_frame_id\":\"" + std::string(kWorld) +
+         "\",\"rotation\":" + pose.orientation + ",\"timestamp\":" + time_text(stamp) +
+         ",\"translation\":" + pose.position + "}";
 }
 
 // One entity, one indexed triangle list (vertices shared, not repeated per triangle).
@@ -385,9 +414,9 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
         !st.ok())
       return st;
 
-  std::vector<Json> truth_poses, dr_poses, slam_poses;
+  std::vector<PoseText> truth_poses, dr_poses, slam_poses;
   truth_poses.reserve(run.truth.size());
-  for (const auto& p : run.truth) truth_poses.push_back(pose_json(p.p_W, p.q_W_V));
+  for (const auto& p : run.truth) truth_poses.push_back(pose_text(p.p_W, p.q_W_V));
   struct Tf {
     Time stamp;
     int order;  // truth, dr, slam at equal stamps
@@ -396,8 +425,8 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
   std::vector<Tf> tf;
   if (run.pipeline)
     for (const auto& k : run.pipeline->slam().keyframes()) {
-      dr_poses.push_back(pose_json(k.T_W_V_dr));
-      slam_poses.push_back(pose_json(k.T_W_V_slam));
+      dr_poses.push_back(pose_text(k.T_W_V_dr));
+      slam_poses.push_back(pose_text(k.T_W_V_slam));
       tf.push_back({k.stamp, 1, dr_poses.size() - 1});
       tf.push_back({k.stamp, 2, slam_poses.size() - 1});
     }
@@ -414,10 +443,10 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
   if (!tf.empty()) {
     const uint16_t ch = channel("/orthosonar/tf", "foxglove.FrameTransform", kFrameTransformSchema);
     static constexpr const char* kChild[] = {"vehicle_truth", "vehicle_dr", "vehicle_slam"};
-    const std::vector<Json>* poses_of[] = {&truth_poses, &dr_poses, &slam_poses};
+    const std::vector<PoseText>* poses_of[] = {&truth_poses, &dr_poses, &slam_poses};
     for (const Tf& f : tf) {
       const auto& pose = (*poses_of[f.order])[f.index];
-      if (Status st = emit(ch, f.stamp, transform_json(f.stamp, kChild[f.order], pose).dump()); !st.ok()) return st;
+      if (Status st = emit(ch, f.stamp, transform_text(f.stamp, kChild[f.order], pose)); !st.ok()) return st;
     }
   }
 
@@ -426,13 +455,13 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
                          point_cloud_json(s.map_W, end).dump());
         !st.ok())
       return st;
-  const std::pair<const char*, const std::vector<Json>*> trajectories[] = {
+  const std::pair<const char*, const std::vector<PoseText>*> trajectories[] = {
       {"truth", &truth_poses}, {"dr", &dr_poses}, {"slam", &slam_poses}};
   for (const auto& [name, poses] : trajectories)
     if (!poses->empty())
       if (Status st = emit(channel(std::string("/orthosonar/trajectory/") + name, "foxglove.PosesInFrame",
                                    kPosesInFrameSchema),
-                           end, poses_json(*poses, end).dump());
+                           end, poses_text(*poses, end));
           !st.ok())
         return st;
   if (Status st = w.metadata("orthosonar", metadata_values(run)); !st.ok()) return st;

@@ -270,7 +270,7 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
                                    std::chrono::duration<double>((t - *first).seconds() / options.rate));
       std::this_thread::sleep_until(due);
     }
-    r.pipeline->consume(*p.event);
+    r.pipeline->consume(std::move(*p.event));
     ++n;
     if (control.progress && control.progress_every > 0 && n % control.progress_every == 0) report(t, n);
   }

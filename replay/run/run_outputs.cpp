@@ -3,6 +3,7 @@
 // perception saw (ping_pair/), summary.json and digest.json.
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <functional>
 #include <numbers>
 #include <string>
@@ -135,6 +136,11 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   // A caller that did not clear them before its run: the verdicts of an earlier run must
   // not sit beside this run's half-written maps.
   if (Status st = clear_run_verdicts(out_dir); !st.ok()) return st;
+  // results.mcap (the largest writer: every truth pose as Foxglove JSON, zstd) on a thread
+  // of its own beside the others; its bytes do not depend on it. std::async's future waits
+  // for it on every return below.
+  auto results = std::async(std::launch::async,
+                            [&] { return write_results_mcap(run, (out / kResultsMcapFile).string()); });
   nlohmann::json octomap_outside = nlohmann::json::object();  // per system, only where points were left out
   for (const auto& s : run.systems) {
     const fs::path d = out / s.name;
@@ -158,7 +164,7 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
     if (Status st = write_tum((out / "traj_truth.tum").string(), run.truth); !st.ok()) return st;
   if (run.mesh)
     if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
-  if (Status st = write_results_mcap(run, (out / kResultsMcapFile).string()); !st.ok()) return st;
+  if (Status st = results.get(); !st.ok()) return st;
   if (run.ping_pair) {
     const auto& pp = *run.ping_pair;
     if (Status st = outputs::write_ping_pair((out / "ping_pair").string(), pp.h, pp.v, pp.fused,
