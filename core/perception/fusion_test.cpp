@@ -235,7 +235,7 @@ TEST_CASE("noise_floor_factor drops candidates under the local noise floor (larg
   CHECK(fuse_pair(h, v, cfg).points.size() == 3);
 }
 
-TEST_CASE("RowMedians is each row's lower median, 8- and 16-bit, on random images", "[unit][property]") {
+TEST_CASE("RowMedians is each row's lower median, 8- and 16-bit, on random images", "[unit][rapidcheck]") {
   rc::prop("RowMedians(row) == nth_element's lower median", [] {
     const int bpp = *rc::gen::element(1, 2);
     const int rows = *rc::gen::inRange(1, 6), cols = *rc::gen::inRange(1, 700);

@@ -31,7 +31,7 @@ TEST_CASE("MCAP CRC-32 is the ISO-HDLC CRC (check value, empty input)", "[mcap][
   CHECK(mcap::crc32(0, big.data(), big.size()) == zlib_crc(big));
 }
 
-TEST_CASE("MCAP CRC-32 equals zlib's on random data, whole and in pieces", "[mcap][crc][property]") {
+TEST_CASE("MCAP CRC-32 equals zlib's on random data, whole and in pieces", "[mcap][crc][rapidcheck]") {
   rc::prop("mcap::crc32(whole) == zlib == crc32 continued over a split", [] {
     const auto data = *rc::gen::container<std::vector<uint8_t>>(*rc::gen::inRange<size_t>(0, 5000),
                                                                  rc::gen::arbitrary<uint8_t>());
