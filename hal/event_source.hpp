@@ -1,6 +1,7 @@
 #pragma once
 // Where events come from: a live driver set, the simulator, or a recorded fixture.
 // A pull API so the consumer (the core pipeline) sets the pace; errors are values.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,6 +31,10 @@ class EventSource {
   virtual Pulled next() = 0;
   // A short human-readable name, e.g. "fixture:h.mcap" or "sim:harbor".
   virtual std::string describe() const = 0;
+  // Heap bytes of the events the source holds decoded and not yet yielded (read-ahead,
+  // reordering), for memory reports (issue 41); 0 when it holds none or does not say.
+  // Called from the thread that calls next().
+  virtual int64_t buffered_bytes() const { return 0; }
 };
 
 }  // namespace orthosonar::hal

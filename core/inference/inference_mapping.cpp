@@ -1,5 +1,7 @@
 #include "core/inference/inference_mapping.hpp"
 
+#include "core/memory.hpp"
+
 #include "core/perception/fusion.hpp"
 
 namespace orthosonar::inference {
@@ -114,6 +116,12 @@ Result<std::unique_ptr<mapping::MappingSystem>> make_inference_system_from_model
   std::unique_ptr<mapping::MappingSystem> system =
       std::make_unique<InferenceMapping>(config, std::move(model).value(), submapping);
   return system;
+}
+
+int64_t InferenceMapping::memory_bytes() const {
+  int64_t n = heap_bytes(frames_) + heap_bytes(T_W_K_) + store_.memory_bytes();
+  for (const auto& f : frames_) n += heap_bytes(f.p_K);
+  return n;
 }
 
 }  // namespace orthosonar::inference

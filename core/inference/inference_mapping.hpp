@@ -52,6 +52,7 @@ class InferenceMapping final : public mapping::MappingSystem {
   std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime() const override;
   void set_clock(const mapping::StageClock* clock) override { clock_ = clock; }
   std::vector<std::pair<std::string, int64_t>> system_counts() const override;
+  int64_t memory_bytes() const override;
   const InferenceCounts& counts() const { return counts_; }
   // Submapping mode only. record: every inferred pair's cloud is also written to `cache`.
   // replay: clouds come from `cache` (a pair missing there is an error, reported by

@@ -114,6 +114,8 @@ class MappingSystem {
   // System-specific counters for metrics.json (e.g. inference's clusters and Bayes
   // updates); none by default. Deterministic; never part of the digest.
   virtual std::vector<std::pair<std::string, int64_t>> system_counts() const { return {}; }
+  // Heap bytes the system holds for its map (core/memory.hpp; replay --memory-report).
+  virtual int64_t memory_bytes() const { return 0; }
   // The clock used to time stages; optional, may be null.
   virtual void set_clock(const StageClock* clock) { (void)clock; }
 };

@@ -66,7 +66,11 @@ void Pipeline::consume(const Event& event) {
       // Metrics only: never read by any estimator.
       if (const auto* r = std::get_if<TruthPose>(&event.payload)) {
         ++counts_.truth;
-        truth_.push_back(*r);
+        if (truth_observer_) {
+          truth_observer_(*r);
+        } else {
+          truth_.push_back(*r);
+        }
       }
       break;
     case Channel::kLabelsHorizontal:
@@ -174,6 +178,18 @@ std::vector<std::pair<std::string, RuntimeStats>> Pipeline::runtime() const {
   for (const auto& s : systems_)
     for (auto& r : s->runtime()) out.push_back(std::move(r));
   return out;
+}
+
+MemoryParts Pipeline::memory() const {
+  int64_t queued = pairer_.memory_bytes() + heap_bytes(pending_);
+  for (const auto& p : pending_) queued += heap_bytes(p.h) + heap_bytes(p.v);
+  MemoryParts parts = {{"truth", heap_bytes(truth_)},
+                       {"dead_reckoning", dr_.memory_bytes()},
+                       {"ping_queue", queued},
+                       {"keyframe_clouds", slam_.cloud_bytes()},
+                       {"pose_graph", slam_.graph_bytes()}};
+  for (const auto& s : systems_) parts.emplace_back("map:" + s->name(), s->memory_bytes());
+  return parts;
 }
 
 }  // namespace orthosonar::mapping

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/events.hpp"
+#include "core/memory.hpp"
 #include "core/mapping/mapping_system.hpp"
 #include "core/perception/fusion.hpp"
 #include "core/perception/pairing.hpp"
@@ -78,6 +79,9 @@ class Pipeline {
   void set_clock(const StageClock* clock);
   void set_fusion(FuseFn fuse) { fuse_ = std::move(fuse); }
   void set_pair_observer(PairObserver observer) { observer_ = std::move(observer); }
+  // Hands every truth pose to `observer` (in stream order, on the feeding thread) instead of
+  // keeping it in truth(): a tool that keeps a long mission's truth elsewhere (issue 41).
+  void set_truth_observer(std::function<void(const TruthPose&)> observer) { truth_observer_ = std::move(observer); }
 
   void consume(const Event& event);
   // The same, taking a sonar ping's image instead of copying it (a replay's events are its
@@ -98,6 +102,10 @@ class Pipeline {
   // system's own stages prefixed by nothing (their names are unique).
   std::vector<std::pair<std::string, RuntimeStats>> runtime() const;
   const PipelineConfig& config() const { return config_; }
+  // Where the pipeline's memory is (issue 41), heap bytes by part in a fixed order:
+  // "truth" (metrics only), "dead_reckoning", "ping_queue" (pings waiting to pair and pairs
+  // waiting for DR), "keyframe_clouds", "pose_graph", then "map:<system>" per system.
+  MemoryParts memory() const;
 
  private:
   struct PendingPair {
@@ -119,6 +127,7 @@ class Pipeline {
   const StageClock* clock_ = nullptr;
   FuseFn fuse_;
   PairObserver observer_;
+  std::function<void(const TruthPose&)> truth_observer_;
   std::deque<PendingPair> pending_;
   std::vector<TruthPose> truth_;
   PipelineCounts counts_;

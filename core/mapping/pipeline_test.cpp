@@ -121,3 +121,54 @@ TEST_CASE("pipeline outputs do not depend on truth on executor order or on batch
   CHECK(a.counts.truth > 0);
   CHECK(b.counts.truth == 0);
 }
+
+TEST_CASE("pipeline memory parts name where the bytes are, and a truth observer keeps truth out of it", "[unit]") {
+  const auto events = mission(true, 12);
+  PipelineConfig cfg;
+  cfg.slam.kf_distance_m = 2.0;
+  cfg.fusion.min_confidence = 0.0;
+  const auto make = [&] {
+    auto p = std::make_unique<Pipeline>(cfg);
+    p->add_system(std::make_unique<FusionMapping>());
+    p->add_system(std::make_unique<Submapping>());
+    return p;
+  };
+  auto kept = make();
+  auto observed = make();
+  std::vector<TruthPose> seen;
+  observed->set_truth_observer([&](const TruthPose& t) { seen.push_back(t); });
+  MemoryParts halfway;
+  for (size_t i = 0; i < events.size(); ++i) {
+    kept->consume(events[i]);
+    observed->consume(events[i]);
+    if (i == events.size() / 2) halfway = kept->memory();
+  }
+  kept->finish();
+  observed->finish();
+  const MemoryParts parts = kept->memory();
+  std::vector<std::string> names;
+  for (const auto& [name, bytes] : parts) names.push_back(name);
+  CHECK(names == std::vector<std::string>{"truth", "dead_reckoning", "ping_queue", "keyframe_clouds", "pose_graph",
+                                          "map:fusion", "map:submap"});
+  const auto bytes = [](const MemoryParts& m, const std::string& name) {
+    for (const auto& [n, b] : m)
+      if (n == name) return b;
+    return int64_t{-1};
+  };
+  CHECK(bytes(parts, "truth") >= static_cast<int64_t>(kept->truth().size() * sizeof(TruthPose)));
+  CHECK(bytes(parts, "dead_reckoning") > 0);
+  CHECK(bytes(parts, "ping_queue") == 0);  // finish() drained every pair
+  CHECK(bytes(parts, "keyframe_clouds") > 0);
+  CHECK(bytes(parts, "pose_graph") > 0);
+  // The submap store holds every fused pair's points: it grew from half way to the end.
+  CHECK(bytes(parts, "map:submap") > bytes(halfway, "map:submap"));
+  CHECK(bytes(parts, "map:submap") >=
+        static_cast<int64_t>(dynamic_cast<const Submapping&>(*kept->systems()[1]).store().total_points() *
+                             sizeof(Eigen::Vector3f)));
+  // The observer saw every truth pose, the pipeline kept none, and nothing else changed.
+  CHECK(seen == kept->truth());
+  CHECK(observed->truth().empty());
+  CHECK(bytes(observed->memory(), "truth") == 0);
+  CHECK(observed->counts().truth == kept->counts().truth);
+  CHECK(observed->systems()[1]->map_points_W() == kept->systems()[1]->map_points_W());
+}

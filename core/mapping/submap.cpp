@@ -1,5 +1,7 @@
 #include "core/mapping/submap.hpp"
 
+#include "core/memory.hpp"
+
 #include <algorithm>
 #include <cassert>
 
@@ -45,6 +47,12 @@ std::vector<Eigen::Vector3f> SubmapStore::assemble(const std::vector<SE3>& T_W_K
     transform_append(T, submaps_[k].p_K, out);
   }
   return out;
+}
+
+int64_t SubmapStore::memory_bytes() const {
+  int64_t n = heap_bytes(submaps_);
+  for (const auto& s : submaps_) n += heap_bytes(s.p_K);
+  return n;
 }
 
 size_t SubmapStore::total_points() const {

@@ -3,6 +3,7 @@
 // k+1 is stored in keyframe k's frame as T_k_t · z_t with T_k_t = DR(k)⁻¹ · DR(t), so
 // S_k = ∪ T_k_t z_t, and the map is ∪ T_W_k · S_k for the current SLAM poses T_W_k.
 // Moving a keyframe moves its submap rigidly; no image is ever reprocessed.
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,6 +26,7 @@ class SubmapStore {
   // placed by their DR pose.
   std::vector<Eigen::Vector3f> assemble(const std::vector<SE3>& T_W_K) const;
   size_t total_points() const;
+  int64_t memory_bytes() const;  // the points and the submaps' poses (core/memory.hpp)
 
  private:
   struct Submap {

@@ -1,5 +1,6 @@
 #include "core/mapping/systems.hpp"
 
+#include "core/memory.hpp"
 #include "core/perception/fusion.hpp"
 
 namespace orthosonar::mapping {
@@ -43,6 +44,12 @@ std::vector<Eigen::Vector3f> FusionMapping::assemble(const std::vector<SE3>& T_W
 }
 
 std::vector<Eigen::Vector3f> FusionMapping::map_points_W() const { return assemble(T_W_K_); }
+
+int64_t FusionMapping::memory_bytes() const {
+  int64_t n = heap_bytes(frames_) + heap_bytes(T_W_K_);
+  for (const auto& f : frames_) n += heap_bytes(f.p_K);
+  return n;
+}
 
 std::optional<std::vector<Eigen::Vector3f>> FusionMapping::map_points_W_with(const std::vector<SE3>& T_W_K) const {
   return assemble(T_W_K);

@@ -25,6 +25,7 @@ class FusionMapping final : public MappingSystem {
   std::optional<std::vector<Eigen::Vector3f>> map_points_W_with(const std::vector<SE3>& T_W_K) const override;
   std::vector<std::pair<std::string, RuntimeStats>> runtime() const override;
   void set_clock(const StageClock* clock) override { clock_ = clock; }
+  int64_t memory_bytes() const override;
 
  private:
   std::vector<Eigen::Vector3f> assemble(const std::vector<SE3>& T_W_K) const;
@@ -51,6 +52,7 @@ class Submapping final : public MappingSystem {
   std::optional<std::vector<Eigen::Vector3f>> map_points_W_with(const std::vector<SE3>& T_W_K) const override;
   std::vector<std::pair<std::string, RuntimeStats>> runtime() const override;
   void set_clock(const StageClock* clock) override { clock_ = clock; }
+  int64_t memory_bytes() const override { return store_.memory_bytes() + static_cast<int64_t>(T_W_K_.capacity() * sizeof(SE3)); }
   const SubmapStore& store() const { return store_; }
   // Pairs that arrived before the first keyframe (no submap to hold them).
   int64_t dropped_pairs() const { return dropped_; }

@@ -1,5 +1,7 @@
 #include "core/perception/pairing.hpp"
 
+#include "core/memory.hpp"
+
 #include <algorithm>
 
 namespace orthosonar::perception {
@@ -61,6 +63,14 @@ void PingPairer::resolve(bool final) {
     }
     h_.pop_front();
   }
+}
+
+int64_t PingPairer::memory_bytes() const {
+  int64_t n = heap_bytes(h_) + heap_bytes(v_) + heap_bytes(ready_);
+  for (const auto& p : h_) n += heap_bytes(p);
+  for (const auto& p : v_) n += heap_bytes(p);
+  for (const auto& [h, v] : ready_) n += heap_bytes(h) + heap_bytes(v);
+  return n;
 }
 
 }  // namespace orthosonar::perception

@@ -24,6 +24,7 @@ class PingPairer {
   size_t unpaired_h() const { return unpaired_h_; }
   size_t unpaired_v() const { return unpaired_v_; }
   size_t pairs() const { return pairs_; }
+  int64_t memory_bytes() const;  // the pings waiting for a partner or to be popped (core/memory.hpp)
 
  private:
   void resolve(bool final);

@@ -1,5 +1,7 @@
 #include "core/slam/dead_reckoning.hpp"
 
+#include "core/memory.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -257,5 +259,9 @@ Result<SE3> DeadReckoning::pose_at(Time t) const {
 
 Time DeadReckoning::first_time() const { return states_.empty() ? Time() : states_.front().stamp; }
 Time DeadReckoning::last_time() const { return states_.empty() ? Time() : states_.back().stamp; }
+
+int64_t DeadReckoning::memory_bytes() const {
+  return heap_bytes(states_) + heap_bytes(imu_) + heap_bytes(depth_) + heap_bytes(counts_.gaps) + gyro_.memory_bytes();
+}
 
 }  // namespace orthosonar::slam

@@ -98,6 +98,9 @@ class DeadReckoning {
   Time last_time() const;
   const DrCounts& counts() const { return counts_; }
   const DrConfig& config() const { return config_; }
+  // Heap bytes of the DR trajectory (one state per DVL reading, kept whole: pairs and
+  // keyframes look poses up in it) and the recent sensor histories (core/memory.hpp).
+  int64_t memory_bytes() const;
 
  private:
   struct State {

@@ -1,5 +1,7 @@
 #include "core/slam/gyro_heading.hpp"
 
+#include "core/memory.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -109,5 +111,7 @@ std::optional<double> GyroHeading::yaw_at(Time t) const {
   const double s = static_cast<double>((t - a.first).ns()) / static_cast<double>((b.first - a.first).ns());
   return wrap_angle(a.second + s * (b.second - a.second) + offset_);
 }
+
+int64_t GyroHeading::memory_bytes() const { return heap_bytes(yaw_) + heap_bytes(pending_); }
 
 }  // namespace orthosonar::slam

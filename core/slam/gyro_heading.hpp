@@ -69,6 +69,7 @@ class GyroHeading {
   // at the ends; nullopt before the first sample.
   std::optional<double> yaw_at(Time t) const;
   const GyroCounts& counts() const { return counts_; }
+  int64_t memory_bytes() const;  // the recent heading history (core/memory.hpp)
 
  private:
   GyroHeadingConfig config_;

@@ -1,5 +1,7 @@
 #include "core/slam/keyframe_slam.hpp"
 
+#include "core/memory.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -425,6 +427,19 @@ void KeyframeSlam::solve(int leaf) {
     const Vec3 rpy = rpy_from_rotation(kf.T_W_V_dr.rotation());
     kf.T_W_V_slam = se3_from_se2(poses_[k], kf.T_W_V_dr.translation().z(), rpy.x(), rpy.y());
   }
+}
+
+int64_t KeyframeSlam::cloud_bytes() const {
+  int64_t n = heap_bytes(keyframes_);
+  for (const auto& k : keyframes_) n += heap_bytes(k.cloud_V);
+  return n;
+}
+
+int64_t KeyframeSlam::graph_bytes() const {
+  int64_t n = heap_bytes(factors_) + heap_bytes(poses_) + heap_bytes(path_m_) + heap_bytes(sequential_factor_) +
+              heap_bytes(sequential_cov_) + heap_bytes(pcm_queue_) + heap_bytes(accepted_loops_);
+  for (const auto& f : factors_) n += heap_bytes(f.reason);
+  return n;
 }
 
 }  // namespace orthosonar::slam

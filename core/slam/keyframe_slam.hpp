@@ -216,6 +216,10 @@ class KeyframeSlam {
   const PoseGraphSummary& last_solve() const { return last_solve_; }
   // The estimated drift of the DR heading (rad/s; 0 when heading_drift_sigma_dps is 0).
   double heading_drift_rad_s() const { return heading_drift_rad_s_; }
+  // Heap bytes (core/memory.hpp) of the keyframes' planar clouds, and of the pose graph
+  // (factors, estimates, per-keyframe bookkeeping).
+  int64_t cloud_bytes() const;
+  int64_t graph_bytes() const;
 
  private:
   void sequential_match(int id);

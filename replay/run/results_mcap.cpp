@@ -17,6 +17,7 @@
 #include "orthosonar/version.hpp"
 #include "replay/mcap/mcap_generic.hpp"
 #include "replay/run/run.hpp"
+#include "replay/run/truth_spill.hpp"
 
 namespace orthosonar::run {
 namespace {
@@ -199,6 +200,7 @@ using JsonF = nlohmann::basic_json<std::map, std::vector, std::string, bool, std
 
 constexpr const char* kWorld = "world";
 constexpr int64_t kTruthTfSpacingNs = 100'000'000;  // world -> vehicle_truth at most every 100 ms
+constexpr size_t kTruthTrajectoryPoses = 40'000;      // 66 min at 10 Hz
 
 // MCAP log times and Foxglove times are unsigned: a negative stamp is shown at 0.
 uint64_t log_ns(Time t) { return t.ns() < 0 ? 0 : static_cast<uint64_t>(t.ns()); }
@@ -278,18 +280,19 @@ Json point_cloud_json(const std::vector<Eigen::Vector3f>& points_W, Time stamp) 
           {"point_stride", 12},                  {"fields", std::move(fields)}, {"data", base64(bytes)}};
 }
 
-// foxglove.PosesInFrame.
-std::string poses_text(const std::vector<PoseText>& poses, Time stamp) {
+// foxglove.PosesInFrame: the poses pose(0) ... pose(n-1), each made when it is written (a
+// run's pose texts are never all held at once).
+template <typename PoseAt>
+std::string poses_text(size_t n, const PoseAt& pose, Time stamp) {
   std::string out = "{\"frame_id\":\"" + std::string(kWorld) + "\",\"poses\":[";
-  size_t size = out.size() + 64;
-  for (const PoseText& p : poses) size += p.position.size() + p.orientation.size() + 32;
-  out.reserve(size);  // one allocation: the truth trajectory is 12 MB of text
-  for (size_t i = 0; i < poses.size(); ++i) {
+  out.reserve(out.size() + n * 160 + 64);  // a pose is 120-150 characters
+  for (size_t i = 0; i < n; ++i) {
+    const PoseText p = pose(i);
     if (i > 0) out += ',';
     out += "{\"orientation\":";
-    out += poses[i].orientation;
+    out += p.orientation;
     out += ",\"position\":";
-    out += poses[i].position;
+    out += p.position;
     out += '}';
   }
   return out + "],\"timestamp\":" + time_text(stamp) + "}";
@@ -414,38 +417,49 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
         !st.ok())
       return st;
 
-  std::vector<PoseText> truth_poses, dr_poses, slam_poses;
-  truth_poses.reserve(run.truth.size());
-  for (const auto& p : run.truth) truth_poses.push_back(pose_text(p.p_W, p.q_W_V));
+  // The truth at most every kTruthTfSpacingNs (the tf stream's and the truth trajectory's
+  // poses): a full-rate truth is 110 poses a second, 60 MB of text in an hour, and
+  // traj_truth.tum already holds it whole. A run that kept its truth on disk has these poses
+  // in memory (TruthSpill::shown, the same rule); thinning them again keeps them all.
+  const std::vector<TruthPose>& truth = run.truth_all ? run.truth_all->shown() : run.truth;
+  std::vector<size_t> truth_kept;
+  {
+    std::optional<Time> last;
+    for (size_t i = 0; i < truth.size(); ++i) {
+      const Time t = truth[i].stamp;
+      if (last && (t - *last).ns() < kTruthTfSpacingNs) continue;
+      last = t;
+      truth_kept.push_back(i);
+    }
+  }
+  static const std::vector<slam::Keyframe> kNoKeyframes;
+  const std::vector<slam::Keyframe>& kfs = run.pipeline ? run.pipeline->slam().keyframes() : kNoKeyframes;
+  const auto truth_pose = [&](size_t j) {
+    const TruthPose& p = truth[truth_kept[j]];
+    return pose_text(p.p_W, p.q_W_V);
+  };
+  const auto dr_pose = [&](size_t k) { return pose_text(kfs[k].T_W_V_dr); };
+  const auto slam_pose = [&](size_t k) { return pose_text(kfs[k].T_W_V_slam); };
   struct Tf {
     Time stamp;
     int order;  // truth, dr, slam at equal stamps
     size_t index;
   };
   std::vector<Tf> tf;
-  if (run.pipeline)
-    for (const auto& k : run.pipeline->slam().keyframes()) {
-      dr_poses.push_back(pose_text(k.T_W_V_dr));
-      slam_poses.push_back(pose_text(k.T_W_V_slam));
-      tf.push_back({k.stamp, 1, dr_poses.size() - 1});
-      tf.push_back({k.stamp, 2, slam_poses.size() - 1});
-    }
-  std::optional<Time> last_truth_tf;
-  for (size_t i = 0; i < run.truth.size(); ++i) {
-    const Time t = run.truth[i].stamp;
-    if (last_truth_tf && (t - *last_truth_tf).ns() < kTruthTfSpacingNs) continue;
-    last_truth_tf = t;
-    tf.push_back({t, 0, i});
+  tf.reserve(2 * kfs.size() + truth_kept.size());
+  for (size_t k = 0; k < kfs.size(); ++k) {
+    tf.push_back({kfs[k].stamp, 1, k});
+    tf.push_back({kfs[k].stamp, 2, k});
   }
+  for (size_t j = 0; j < truth_kept.size(); ++j) tf.push_back({truth[truth_kept[j]].stamp, 0, j});
   std::stable_sort(tf.begin(), tf.end(), [](const Tf& a, const Tf& b) {
     return std::tie(a.stamp, a.order) < std::tie(b.stamp, b.order);
   });
   if (!tf.empty()) {
     const uint16_t ch = channel("/orthosonar/tf", "foxglove.FrameTransform", kFrameTransformSchema);
     static constexpr const char* kChild[] = {"vehicle_truth", "vehicle_dr", "vehicle_slam"};
-    const std::vector<PoseText>* poses_of[] = {&truth_poses, &dr_poses, &slam_poses};
     for (const Tf& f : tf) {
-      const auto& pose = (*poses_of[f.order])[f.index];
+      const PoseText pose = f.order == 0 ? truth_pose(f.index) : f.order == 1 ? dr_pose(f.index) : slam_pose(f.index);
       if (Status st = emit(ch, f.stamp, transform_text(f.stamp, kChild[f.order], pose)); !st.ok()) return st;
     }
   }
@@ -455,15 +469,20 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
                          point_cloud_json(s.map_W, end).dump());
         !st.ok())
       return st;
-  const std::pair<const char*, const std::vector<PoseText>*> trajectories[] = {
-      {"truth", &truth_poses}, {"dr", &dr_poses}, {"slam", &slam_poses}};
-  for (const auto& [name, poses] : trajectories)
-    if (!poses->empty())
-      if (Status st = emit(channel(std::string("/orthosonar/trajectory/") + name, "foxglove.PosesInFrame",
-                                   kPosesInFrameSchema),
-                           end, poses_text(*poses, end));
-          !st.ok())
-        return st;
+  const auto trajectory = [&](const char* name, size_t n, const auto& pose) -> Status {
+    if (n == 0) return {};
+    return emit(channel(std::string("/orthosonar/trajectory/") + name, "foxglove.PosesInFrame", kPosesInFrameSchema),
+                end, poses_text(n, pose, end));
+  };
+  // The truth trajectory is one message: at most kTruthTrajectoryPoses poses of the tf
+  // stream's, every stride-th (an 8-hour mission's 288,000 would be 45 MB of JSON).
+  const size_t stride = (truth_kept.size() + kTruthTrajectoryPoses - 1) / kTruthTrajectoryPoses;
+  const size_t truth_shown = stride > 1 ? (truth_kept.size() + stride - 1) / stride : truth_kept.size();
+  if (Status st = trajectory("truth", truth_shown, [&](size_t j) { return truth_pose(j * std::max<size_t>(stride, 1)); });
+      !st.ok())
+    return st;
+  if (Status st = trajectory("dr", kfs.size(), dr_pose); !st.ok()) return st;
+  if (Status st = trajectory("slam", kfs.size(), slam_pose); !st.ok()) return st;
   if (Status st = w.metadata("orthosonar", metadata_values(run)); !st.ok()) return st;
   return w.close();
 }

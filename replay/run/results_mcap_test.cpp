@@ -19,6 +19,7 @@
 #include "replay/mcap/mcap_generic.hpp"
 #include "replay/run/mission.hpp"
 #include "replay/run/results_mcap.hpp"
+#include "replay/run/truth_spill.hpp"
 #include "replay/run/run.hpp"
 #include "replay/fixture/testing.hpp"
 
@@ -197,20 +198,6 @@ TEST_CASE("results.mcap holds maps, trajectories, transforms and the truth mesh 
     }
   CHECK(r.messages.at("/orthosonar/submap/map")[0]["data"] == "");
 
-  // The truth trajectory: every pose, unit quaternions with w >= 0.
-  const json& truth = r.messages.at("/orthosonar/trajectory/truth").at(0);
-  REQUIRE(truth["poses"].size() == run.truth.size());
-  for (size_t i = 0; i < run.truth.size(); ++i) {
-    const json& p = truth["poses"][i];
-    CHECK(p["position"]["x"].get<double>() == Approx(run.truth[i].p_W.x()));
-    const json& q = p["orientation"];
-    const double n = std::sqrt(std::pow(q["x"].get<double>(), 2) + std::pow(q["y"].get<double>(), 2) +
-                               std::pow(q["z"].get<double>(), 2) + std::pow(q["w"].get<double>(), 2));
-    CHECK(n == Approx(1.0));
-    CHECK(q["w"].get<double>() >= 0.0);
-    CHECK(q["z"].get<double>() == Approx(std::sin(0.01 * static_cast<double>(i))));
-  }
-
   // Transforms: truth at most every 100 ms (1.00, 1.12, 1.24, ... 1.96 s), in time order.
   const auto& tf = r.messages.at("/orthosonar/tf");
   REQUIRE(tf.size() == 9);
@@ -219,6 +206,24 @@ TEST_CASE("results.mcap holds maps, trajectories, transforms and the truth mesh 
     CHECK(tf[i]["child_frame_id"] == "vehicle_truth");
     CHECK(stamp_ns(tf[i]["timestamp"]) == start + 120'000'000u * i);
     CHECK(r.log_times.at("/orthosonar/tf")[i] == start + 120'000'000u * i);
+  }
+
+  // The truth trajectory: the same poses as the tf stream (every third of these 40 ms
+  // apart), unit quaternions with w >= 0, equal to the transforms' own.
+  const json& truth = r.messages.at("/orthosonar/trajectory/truth").at(0);
+  REQUIRE(truth["poses"].size() == tf.size());
+  for (size_t j = 0; j < tf.size(); ++j) {
+    const size_t i = 3 * j;
+    const json& p = truth["poses"][j];
+    CHECK(p["position"]["x"].get<double>() == Approx(run.truth[i].p_W.x()));
+    CHECK(p["position"] == tf[j]["translation"]);
+    CHECK(p["orientation"] == tf[j]["rotation"]);
+    const json& q = p["orientation"];
+    const double n = std::sqrt(std::pow(q["x"].get<double>(), 2) + std::pow(q["y"].get<double>(), 2) +
+                               std::pow(q["z"].get<double>(), 2) + std::pow(q["w"].get<double>(), 2));
+    CHECK(n == Approx(1.0));
+    CHECK(q["w"].get<double>() >= 0.0);
+    CHECK(q["z"].get<double>() == Approx(std::sin(0.01 * static_cast<double>(i))));
   }
 
   // Same bytes on every write; the Metadata record says what the file is.
@@ -270,7 +275,12 @@ TEST_CASE("a simulated run's output directory has results.mcap, outside the dige
   const auto kf = static_cast<size_t>(out->counts.keyframes);
   CHECK(r.messages.at("/orthosonar/trajectory/slam")[0]["poses"].size() == kf);
   CHECK(r.messages.at("/orthosonar/trajectory/dr")[0]["poses"].size() == kf);
-  CHECK(r.messages.at("/orthosonar/trajectory/truth")[0]["poses"].size() == out->truth.size());
+  // The truth trajectory at the tf stream's spacing: as many poses as truth transforms.
+  const size_t truth_poses = r.messages.at("/orthosonar/trajectory/truth")[0]["poses"].size();
+  CHECK(truth_poses > 0);
+  REQUIRE(out->truth_all);  // the run kept its truth on disk (replay/run/truth_spill.hpp)
+  CHECK(truth_poses == out->truth_all->shown().size());
+  CHECK(truth_poses < out->truth_all->size());
   for (const auto& s : out->systems) {
     CHECK_FALSE(s.map_W.empty());
     CHECK(base64_decode(r.messages.at("/orthosonar/" + s.name + "/map")[0]["data"]).size() == s.map_W.size() * 12);
@@ -279,7 +289,7 @@ TEST_CASE("a simulated run's output directory has results.mcap, outside the dige
   for (const auto& t : r.messages.at("/orthosonar/tf")) ++children[t["child_frame_id"].get<std::string>()];
   CHECK(children["vehicle_slam"] == kf);
   CHECK(children["vehicle_dr"] == kf);
-  CHECK(children["vehicle_truth"] > 0);
+  CHECK(children["vehicle_truth"] == truth_poses);
   const auto& tf_times = r.log_times.at("/orthosonar/tf");
   CHECK(std::is_sorted(tf_times.begin(), tf_times.end()));
   CHECK(tf_times.back() <= r.log_times.at("/orthosonar/fusion/map")[0]);

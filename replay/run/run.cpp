@@ -1,4 +1,5 @@
 #include "replay/run/run.hpp"
+#include "replay/run/truth_spill.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -250,7 +251,14 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
                                    : std::numeric_limits<double>::quiet_NaN();
     control.progress(pr);
   };
-  std::optional<Time> first, last;
+  // The truth goes to a temporary file, not memory (issue 41): the metrics need only the
+  // poses around keyframe stamps. Where no temporary file can be had, it stays in memory.
+  std::shared_ptr<TruthSpill> spill;
+  if (auto opened = TruthSpill::open(); opened.ok()) {
+    spill = std::move(opened).value();
+    r.pipeline->set_truth_observer([s = spill.get()](const TruthPose& p) { s->append(p); });
+  }
+  std::optional<Time> first, last, memory_at;
   int64_t n = 0;
   for (;;) {
     if (control.cancel && control.cancel->load(std::memory_order_relaxed))
@@ -265,6 +273,10 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
       first_stamp = t;
     }
     last = t;
+    if (control.memory && (!memory_at || t - *memory_at >= control.memory_every)) {
+      memory_at = t;
+      control.memory({t, "stream", *r.pipeline, &source, spill ? spill->memory_bytes() : 0});
+    }
     if (options.rate > 0.0) {
       const auto due = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                    std::chrono::duration<double>((t - *first).seconds() / options.rate));
@@ -275,6 +287,8 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
     if (control.progress && control.progress_every > 0 && n % control.progress_every == 0) report(t, n);
   }
   r.pipeline->finish();
+  if (control.memory)
+    control.memory({last.value_or(Time()), "end of stream", *r.pipeline, nullptr, spill ? spill->memory_bytes() : 0});
   r.pipeline->set_pair_observer({});
   r.ping_pair = std::move(*best);
   if (control.progress && last) report(*last, n);
@@ -285,7 +299,17 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
                    " were not in the cache the preparation pass filled"};
 
   r.counts = r.pipeline->counts();
-  r.truth = r.pipeline->take_truth();
+  if (spill) {
+    if (Status st = spill->finish(); !st.ok()) return st.error();
+    std::vector<Time> stamps;
+    for (const auto& k : r.pipeline->slam().keyframes()) stamps.push_back(k.stamp);
+    auto subset = spill->subset(stamps);
+    if (!subset.ok()) return subset.error();
+    r.truth = std::move(subset).value();
+    r.truth_all = spill;
+  } else {
+    r.truth = r.pipeline->take_truth();
+  }
   r.runtime = r.pipeline->runtime();
   std::vector<mapping::StampedPosition> dr, sl;
   for (const auto& k : r.pipeline->slam().keyframes()) {
@@ -328,6 +352,8 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
   replay::DigestBuilder digest;
   for (const auto& [name, bytes] : canonical_outputs(r)) digest.add(name, bytes);
   r.digest = digest.finish();
+  if (control.memory)
+    control.memory({last.value_or(Time()), "metrics", *r.pipeline, nullptr, spill ? spill->memory_bytes() : 0});
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return r;
 }

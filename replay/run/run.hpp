@@ -107,12 +107,28 @@ struct Progress {
   int64_t events = 0;
 };
 
+class TruthSpill;
+
 struct RunControl {
   std::function<void(const Progress&)> progress;  // called every `progress_every` events
   int64_t progress_every = 2048;
   // Set to true from any thread to stop the run; it then returns an Error whose message
   // starts with kCancelledPrefix. Checked before every event.
   const std::atomic<bool>* cancel = nullptr;
+  // Memory sampling (issue 41, replay --memory-report): called on the feeding thread at the
+  // first event ("stream"), then whenever the stream has gone `memory_every` of sensor time
+  // past the previous call ("stream"), after the last event ("end of stream", pairs
+  // flushed), and after the metrics ("metrics"), with what the pipeline and the source hold
+  // (source null once the stream is over). Changes no output.
+  struct MemoryView {
+    Time stamp;          // the stream's last event stamp
+    const char* phase;
+    const mapping::Pipeline& pipeline;
+    const hal::EventSource* source;
+    int64_t truth_spill_bytes;  // what the run's TruthSpill holds in memory (0 without one)
+  };
+  std::function<void(const MemoryView&)> memory;
+  Time memory_every = Time::from_s(60);
 };
 inline constexpr const char* kCancelledPrefix = "cancelled";
 bool is_cancelled(const Error& e);
@@ -142,7 +158,13 @@ struct RunOutput {
   ConfigSources config_sources;       // where its non-default values came from
   mapping::PipelineCounts counts;
   std::unique_ptr<mapping::Pipeline> pipeline;  // keyframes, factors, DR counts
+  // The ground truth the metrics use: every pose seen, or (when the run kept the truth in a
+  // TruthSpill, truth_all) the first and last poses and those either side of every keyframe
+  // stamp, which give every keyframe's truth exactly as the whole stream does.
   std::vector<TruthPose> truth;
+  // Every truth pose, on disk (replay/run/truth_spill.hpp): traj_truth.tum and results.mcap's
+  // view read it. Null when the run kept the whole truth in `truth`.
+  std::shared_ptr<const TruthSpill> truth_all;
   std::optional<double> ate_dr_m, ate_slam_m;
   std::vector<SystemOutput> systems;
   std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime;

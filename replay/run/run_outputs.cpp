@@ -16,6 +16,7 @@
 #include "replay/run/results_mcap.hpp"
 #include "replay/run/run.hpp"
 #include "replay/run/trajectory.hpp"
+#include "replay/run/truth_spill.hpp"
 
 namespace orthosonar::run {
 
@@ -160,8 +161,12 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   if (Status st = write_factor_table((out / "factors.csv").string(), slam, run.truth); !st.ok()) return st;
   if (Status st = write_tum((out / "traj_dr.tum").string(), keyframe_poses_dr(slam)); !st.ok()) return st;
   if (Status st = write_tum((out / "traj_slam.tum").string(), keyframe_poses_slam(slam)); !st.ok()) return st;
-  if (!run.truth.empty())
+  if (run.truth_all) {
+    if (!run.truth_all->empty())
+      if (Status st = write_tum((out / "traj_truth.tum").string(), *run.truth_all); !st.ok()) return st;
+  } else if (!run.truth.empty()) {
     if (Status st = write_tum((out / "traj_truth.tum").string(), run.truth); !st.ok()) return st;
+  }
   if (run.mesh)
     if (Status st = sim::write_mesh_ply(*run.mesh, (out / "scene_mesh.ply").string()); !st.ok()) return st;
   if (Status st = results.get(); !st.ok()) return st;

@@ -73,6 +73,17 @@ Status write_tum(const std::string& path, const std::vector<TruthPose>& truth) {
   return Status::Ok();
 }
 
+Status write_tum(const std::string& path, const TruthSpill& truth) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) return Error{"cannot open '" + path + "' for writing"};
+  if (Status s = truth.for_each([&](const TruthPose& t) { f << tum_line(t.stamp, mapping::truth_pose(t)) << '\n'; });
+      !s.ok())
+    return Error{path + ": " + s.error().message};
+  f.close();
+  if (!f) return Error{"cannot write '" + path + "'"};
+  return Status::Ok();
+}
+
 std::vector<StampedPose> keyframe_poses_dr(const slam::KeyframeSlam& slam) {
   std::vector<StampedPose> out;
   for (const auto& k : slam.keyframes()) out.push_back({k.stamp, k.T_W_V_dr});

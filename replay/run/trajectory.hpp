@@ -10,6 +10,7 @@
 #include "core/result.hpp"
 #include "core/slam/keyframe_slam.hpp"
 #include "core/time.hpp"
+#include "replay/run/truth_spill.hpp"
 
 namespace orthosonar::run {
 
@@ -25,6 +26,8 @@ Status write_tum(const std::string& path, const std::vector<StampedPose>& poses)
 // Ground truth as a TUM file, written line by line (a long mission has ~110 poses per second:
 // no second copy of them in memory).
 Status write_tum(const std::string& path, const std::vector<TruthPose>& truth);
+// The same from a run's truth on disk (same bytes as from the poses in memory).
+Status write_tum(const std::string& path, const TruthSpill& truth);
 
 // DR and SLAM keyframe trajectories.
 std::vector<StampedPose> keyframe_poses_dr(const slam::KeyframeSlam& slam);
