@@ -469,10 +469,11 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
                          point_cloud_json(s.map_W, end).dump());
         !st.ok())
       return st;
+  const Time stamp_end = end;  // a structured binding cannot be captured (clang 14)
   const auto trajectory = [&](const char* name, size_t n, const auto& pose) -> Status {
     if (n == 0) return {};
     return emit(channel(std::string("/orthosonar/trajectory/") + name, "foxglove.PosesInFrame", kPosesInFrameSchema),
-                end, poses_text(n, pose, end));
+                stamp_end, poses_text(n, pose, stamp_end));
   };
   // The truth trajectory is one message: at most kTruthTrajectoryPoses poses of the tf
   // stream's, every stride-th (an 8-hour mission's 288,000 would be 45 MB of JSON).

@@ -33,7 +33,7 @@ std::vector<TruthPose> spill_test_truth(uint64_t seed, size_t n) {
   return out;
 }
 
-std::string file_text(const std::string& path) {
+std::string spill_file_text(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   std::ostringstream s;
   s << f.rdbuf();
@@ -87,8 +87,8 @@ TEST_CASE("truth spill: every pose read back bit for bit, the same TUM bytes, th
   std::filesystem::create_directories(dir);
   REQUIRE(run::write_tum((dir / "a.tum").string(), truth).ok());
   REQUIRE(run::write_tum((dir / "b.tum").string(), **spill).ok());
-  CHECK(file_text((dir / "a.tum").string()) == file_text((dir / "b.tum").string()));
-  CHECK_FALSE(file_text((dir / "a.tum").string()).empty());
+  CHECK(spill_file_text((dir / "a.tum").string()) == spill_file_text((dir / "b.tum").string()));
+  CHECK_FALSE(spill_file_text((dir / "a.tum").string()).empty());
   std::filesystem::remove_all(dir);
 
   const auto& shown = (*spill)->shown();
