@@ -199,8 +199,7 @@ using Json = nlohmann::json;
 using JsonF = nlohmann::basic_json<std::map, std::vector, std::string, bool, std::int64_t, std::uint64_t, float>;
 
 constexpr const char* kWorld = "world";
-constexpr int64_t kTruthTfSpacingNs = 100'000'000;  // world -> vehicle_truth at most every 100 ms
-constexpr size_t kTruthTrajectoryPoses = 40'000;      // 66 min at 10 Hz
+constexpr size_t kTruthTrajectoryPoses = 40'000;  // 66 min at 10 Hz
 
 // MCAP log times and Foxglove times are unsigned: a negative stamp is shown at 0.
 uint64_t log_ns(Time t) { return t.ns() < 0 ? 0 : static_cast<uint64_t>(t.ns()); }
@@ -417,27 +416,16 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
         !st.ok())
       return st;
 
-  // The truth at most every kTruthTfSpacingNs (the tf stream's and the truth trajectory's
-  // poses): a full-rate truth is 110 poses a second, 60 MB of text in an hour, and
-  // traj_truth.tum already holds it whole. A run that kept its truth on disk has these poses
-  // in memory (TruthSpill::shown, the same rule); thinning them again keeps them all.
-  const std::vector<TruthPose>& truth = run.truth_all ? run.truth_all->shown() : run.truth;
-  std::vector<size_t> truth_kept;
-  {
-    std::optional<Time> last;
-    for (size_t i = 0; i < truth.size(); ++i) {
-      const Time t = truth[i].stamp;
-      if (last && (t - *last).ns() < kTruthTfSpacingNs) continue;
-      last = t;
-      truth_kept.push_back(i);
-    }
-  }
+  // The truth at most every 100 ms (TruthSpill::kShownSpacingNs): the tf stream's and the
+  // truth trajectory's poses. A full-rate truth is 110 poses a second, 60 MB of text in an
+  // hour, and traj_truth.tum already holds it whole. A run that kept its truth on disk has
+  // these poses in memory; one that kept it in memory thins it here by the same rule.
+  std::vector<TruthPose> thinned;
+  if (!run.truth_all) thinned = TruthSpill::thin(run.truth);
+  const std::vector<TruthPose>& truth = run.truth_all ? run.truth_all->shown() : thinned;
   static const std::vector<slam::Keyframe> kNoKeyframes;
   const std::vector<slam::Keyframe>& kfs = run.pipeline ? run.pipeline->slam().keyframes() : kNoKeyframes;
-  const auto truth_pose = [&](size_t j) {
-    const TruthPose& p = truth[truth_kept[j]];
-    return pose_text(p.p_W, p.q_W_V);
-  };
+  const auto truth_pose = [&](size_t j) { return pose_text(truth[j].p_W, truth[j].q_W_V); };
   const auto dr_pose = [&](size_t k) { return pose_text(kfs[k].T_W_V_dr); };
   const auto slam_pose = [&](size_t k) { return pose_text(kfs[k].T_W_V_slam); };
   struct Tf {
@@ -446,12 +434,12 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
     size_t index;
   };
   std::vector<Tf> tf;
-  tf.reserve(2 * kfs.size() + truth_kept.size());
+  tf.reserve(2 * kfs.size() + truth.size());
   for (size_t k = 0; k < kfs.size(); ++k) {
     tf.push_back({kfs[k].stamp, 1, k});
     tf.push_back({kfs[k].stamp, 2, k});
   }
-  for (size_t j = 0; j < truth_kept.size(); ++j) tf.push_back({truth[truth_kept[j]].stamp, 0, j});
+  for (size_t j = 0; j < truth.size(); ++j) tf.push_back({truth[j].stamp, 0, j});
   std::stable_sort(tf.begin(), tf.end(), [](const Tf& a, const Tf& b) {
     return std::tie(a.stamp, a.order) < std::tie(b.stamp, b.order);
   });
@@ -477,10 +465,9 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
   };
   // The truth trajectory is one message: at most kTruthTrajectoryPoses poses of the tf
   // stream's, every stride-th (an 8-hour mission's 288,000 would be 45 MB of JSON).
-  const size_t stride = (truth_kept.size() + kTruthTrajectoryPoses - 1) / kTruthTrajectoryPoses;
-  const size_t truth_shown = stride > 1 ? (truth_kept.size() + stride - 1) / stride : truth_kept.size();
-  if (Status st = trajectory("truth", truth_shown, [&](size_t j) { return truth_pose(j * std::max<size_t>(stride, 1)); });
-      !st.ok())
+  const size_t stride = (truth.size() + kTruthTrajectoryPoses - 1) / kTruthTrajectoryPoses;  // 0 when empty
+  const size_t truth_shown = stride > 0 ? (truth.size() + stride - 1) / stride : 0;
+  if (Status st = trajectory("truth", truth_shown, [&](size_t j) { return truth_pose(j * stride); }); !st.ok())
     return st;
   if (Status st = trajectory("dr", kfs.size(), dr_pose); !st.ok()) return st;
   if (Status st = trajectory("slam", kfs.size(), slam_pose); !st.ok()) return st;

@@ -259,6 +259,10 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
     r.pipeline->set_truth_observer([s = spill.get()](const TruthPose& p) { s->append(p); });
   }
   std::optional<Time> first, last, memory_at;
+  const auto sample_memory = [&](const char* phase, const hal::EventSource* src) {
+    if (control.memory)
+      control.memory({last.value_or(Time()), phase, *r.pipeline, src, spill ? spill->memory_bytes() : 0});
+  };
   int64_t n = 0;
   for (;;) {
     if (control.cancel && control.cancel->load(std::memory_order_relaxed))
@@ -275,7 +279,7 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
     last = t;
     if (control.memory && (!memory_at || t - *memory_at >= control.memory_every)) {
       memory_at = t;
-      control.memory({t, "stream", *r.pipeline, &source, spill ? spill->memory_bytes() : 0});
+      sample_memory("stream", &source);
     }
     if (options.rate > 0.0) {
       const auto due = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -287,8 +291,7 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
     if (control.progress && control.progress_every > 0 && n % control.progress_every == 0) report(t, n);
   }
   r.pipeline->finish();
-  if (control.memory)
-    control.memory({last.value_or(Time()), "end of stream", *r.pipeline, nullptr, spill ? spill->memory_bytes() : 0});
+  sample_memory("end of stream", nullptr);
   r.pipeline->set_pair_observer({});
   r.ping_pair = std::move(*best);
   if (control.progress && last) report(*last, n);
@@ -352,8 +355,7 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
   replay::DigestBuilder digest;
   for (const auto& [name, bytes] : canonical_outputs(r)) digest.add(name, bytes);
   r.digest = digest.finish();
-  if (control.memory)
-    control.memory({last.value_or(Time()), "metrics", *r.pipeline, nullptr, spill ? spill->memory_bytes() : 0});
+  sample_memory("metrics", nullptr);
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return r;
 }

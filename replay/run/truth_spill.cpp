@@ -45,8 +45,18 @@ TruthSpill::~TruthSpill() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
+void TruthSpill::show(std::vector<TruthPose>& shown, const TruthPose& p) {
+  if (shown.empty() || (p.stamp - shown.back().stamp).ns() >= kShownSpacingNs) shown.push_back(p);
+}
+
+std::vector<TruthPose> TruthSpill::thin(const std::vector<TruthPose>& truth) {
+  std::vector<TruthPose> shown;
+  for (const TruthPose& p : truth) show(shown, p);
+  return shown;
+}
+
 void TruthSpill::append(const TruthPose& p) {
-  if (shown_.empty() || (p.stamp - shown_.back().stamp).ns() >= kShownSpacingNs) shown_.push_back(p);
+  show(shown_, p);
   if (buffer_.empty()) buffer_.reserve(kBufferPoses);
   buffer_.push_back(p);
   ++count_;

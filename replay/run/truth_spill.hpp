@@ -45,6 +45,8 @@ class TruthSpill {
   bool empty() const { return count_ == 0; }
   // The poses at most every kShownSpacingNs (in memory).
   const std::vector<TruthPose>& shown() const { return shown_; }
+  // The same poses of a whole stream held in memory (a run without a spill).
+  static std::vector<TruthPose> thin(const std::vector<TruthPose>& truth);
   // See the header comment. `stamps` in any order.
   Result<std::vector<TruthPose>> subset(const std::vector<Time>& stamps) const;
   // Every pose in order, read back in blocks.
@@ -56,6 +58,8 @@ class TruthSpill {
   explicit TruthSpill(std::FILE* f) : file_(f) {}
   Status read(size_t first, size_t n, std::vector<TruthPose>& out) const;
   Status flush_buffer();
+  // Appends p to `shown` when it is the first or kShownSpacingNs after the last one there.
+  static void show(std::vector<TruthPose>& shown, const TruthPose& p);
 
   std::FILE* file_ = nullptr;
   std::vector<TruthPose> buffer_;  // not yet written
