@@ -8,6 +8,7 @@
 // seeds.md/seeds.json (per seed and pooled over seeds). `orthosonar batch plan sweep`
 // shards the same work; its merge writes the same bytes.
 #include <atomic>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -67,6 +68,13 @@ Result<SweepReport> sweep_one(const SweepArgs& a, const RunOptions& options, con
                                 [&](double f) { print_progress("fuse", f, "pairs fused once for all cells"); });
   if (!prepared.ok()) return prepared.error();
   print_progress("fuse", 1.0, "done");
+  {
+    char held[160];
+    std::snprintf(held, sizeof held, "sweep: holding %zu events (%.1f MB) and %zu pairs' fusion results (%.1f MB) for the cells\n",
+                  prepared->events->size(), static_cast<double>(prepared->events->memory_bytes()) / 1e6,
+                  prepared->fused->size(), static_cast<double>(prepared->fused->memory_bytes()) / 1e6);
+    std::cerr << held;
+  }
   note_input(fixture, prepared->recovery);
   // Pass 2: the cells over `threads` workers; results by cell index (deterministic).
   auto ok = run_cells(*prepared, options, cells, threads, [](size_t d, size_t n) {

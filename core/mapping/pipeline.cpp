@@ -1,8 +1,16 @@
 #include "core/mapping/pipeline.hpp"
 
+#include <algorithm>
 #include <variant>
 
 namespace orthosonar::mapping {
+namespace {
+
+// DR states this long before the oldest stamp the pipeline can still look up are kept too
+// (release_dr_history): a margin for sources that deliver a ping a little out of order.
+constexpr int64_t kDrHistoryMarginNs = 30'000'000'000;
+
+}  // namespace
 
 Pipeline::Pipeline(PipelineConfig config)
     : config_(std::move(config)),
@@ -82,6 +90,21 @@ void Pipeline::consume(const Event& event) {
       break;
   }
   process_ready(false);
+  if (event.channel == Channel::kDvl) release_dr_history();
+}
+
+// DR is looked up at the stamps of pairs (each pair's h ping: those pending, those the
+// pairer still holds, and later ones, at or after the newest event) and, for a keyframe's
+// odometry sigma, at the last keyframe's stamp. States before the oldest of these (less a
+// margin) are never asked for again, so releasing them changes no pose and no digest; the
+// trajectory's memory then stays bounded on a mission of any length (issue 41).
+void Pipeline::release_dr_history() {
+  if (dr_.empty()) return;
+  Time oldest = dr_.last_time();
+  if (!pending_.empty()) oldest = std::min(oldest, pending_.front().h.stamp);
+  if (const auto h = pairer_.oldest_h()) oldest = std::min(oldest, *h);
+  if (!slam_.keyframes().empty()) oldest = std::min(oldest, slam_.keyframes().back().stamp);
+  dr_.forget_before(oldest - Time::from_ns(kDrHistoryMarginNs));
 }
 
 void Pipeline::finish() {

@@ -116,6 +116,7 @@ class Pipeline {
   void process_ready(bool final);
   void process_batch(size_t n);
   void process_fused(const PendingPair& p, const perception::FusionResult& fused);
+  void release_dr_history();  // after a DVL reading: DR states no later lookup can need
 
   PipelineConfig config_;
   slam::DeadReckoning dr_;

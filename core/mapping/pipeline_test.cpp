@@ -1,6 +1,7 @@
 #include "core/mapping/pipeline.hpp"
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 
 #include "core/mapping/systems.hpp"
@@ -171,4 +172,41 @@ TEST_CASE("pipeline memory parts name where the bytes are, and a truth observer 
   CHECK(bytes(observed->memory(), "truth") == 0);
   CHECK(observed->counts().truth == kept->counts().truth);
   CHECK(observed->systems()[1]->map_points_W() == kept->systems()[1]->map_points_W());
+}
+
+TEST_CASE("pipeline keeps DR states only as far back as it can still look up, with the same poses", "[unit]") {
+  const int seconds = 150;
+  const auto events = mission(false, seconds);
+  PipelineConfig cfg;
+  cfg.slam.kf_distance_m = 2.0;  // a keyframe every 4 s
+  cfg.fusion.min_confidence = 0.0;
+  Pipeline p(cfg);
+  p.add_system(std::make_unique<FusionMapping>());
+  slam::DeadReckoning whole(cfg.dr);  // the same readings, nothing released
+  size_t most_kept = 0;
+  for (const auto& e : events) {
+    p.consume(e);
+    if (const auto* r = std::get_if<DvlReading>(&e.payload)) whole.add(*r);
+    if (const auto* r = std::get_if<ImuReading>(&e.payload)) whole.add(*r);
+    if (const auto* r = std::get_if<DepthReading>(&e.payload)) whole.add(*r);
+    most_kept = std::max(most_kept, p.dead_reckoning().states_kept());
+  }
+  p.finish();
+  const auto& dr = p.dead_reckoning();
+  // 5 DVL readings a second: 751 in all; kept: the 30 s margin and a keyframe interval.
+  CHECK(p.counts().dvl == seconds * 5 + 1);
+  CHECK(most_kept > 150);
+  CHECK(most_kept < 200);
+  CHECK(dr.first_time() == whole.first_time());
+  CHECK(dr.kept_from() > whole.first_time() + Time::from_s(100));
+  // Every keyframe was posed by the released DR exactly as by the whole one.
+  const auto& kfs = p.slam().keyframes();
+  REQUIRE(kfs.size() > 30);
+  for (const auto& k : kfs) {
+    const auto T = whole.pose_at(k.stamp);
+    REQUIRE(T.ok());
+    CHECK(T->matrix() == k.T_W_V_dr.matrix());
+  }
+  CHECK(p.counts().pairs == seconds * 5 + 1);
+  CHECK(p.counts().pairs_without_dr == 0);
 }

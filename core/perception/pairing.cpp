@@ -65,6 +65,13 @@ void PingPairer::resolve(bool final) {
   }
 }
 
+std::optional<Time> PingPairer::oldest_h() const {
+  std::optional<Time> t;
+  if (!ready_.empty()) t = ready_.front().first.stamp;
+  if (!h_.empty() && (!t || h_.front().stamp < *t)) t = h_.front().stamp;
+  return t;
+}
+
 int64_t PingPairer::memory_bytes() const {
   int64_t n = heap_bytes(h_) + heap_bytes(v_) + heap_bytes(ready_);
   for (const auto& p : h_) n += heap_bytes(p);

@@ -24,6 +24,9 @@ class PingPairer {
   size_t unpaired_h() const { return unpaired_h_; }
   size_t unpaired_v() const { return unpaired_v_; }
   size_t pairs() const { return pairs_; }
+  // The oldest h ping still held (waiting for a partner or to be popped): a pair made later
+  // is stamped at or after it. nullopt when none is held.
+  std::optional<Time> oldest_h() const;
   int64_t memory_bytes() const;  // the pings waiting for a partner or to be popped (core/memory.hpp)
 
  private:

@@ -190,6 +190,7 @@ void DeadReckoning::add(const DvlReading& r) {
     T.linear() = q.toRotationMatrix();
     T.translation() = Vec3(xy_.x(), xy_.y(), z_at(r.stamp));
     states_.push_back({r.stamp, T});
+    first_state_ = r.stamp;
     return;
   }
 
@@ -247,7 +248,10 @@ Result<SE3> DeadReckoning::pose_at(Time t) const {
   if (t < states_.front().stamp || t > states_.back().stamp) {
     return Error{"dead reckoning: stamp " + std::to_string(t.ns()) + " ns outside [" +
                  std::to_string(states_.front().stamp.ns()) + ", " +
-                 std::to_string(states_.back().stamp.ns()) + "] ns"};
+                 std::to_string(states_.back().stamp.ns()) + "] ns" +
+                 (t < states_.front().stamp && first_state_ < states_.front().stamp
+                      ? " (states before " + std::to_string(states_.front().stamp.ns()) + " ns were released)"
+                      : std::string())};
   }
   auto it = std::upper_bound(states_.begin(), states_.end(), t,
                              [](Time a, const State& s) { return a < s.stamp; });
@@ -257,7 +261,12 @@ Result<SE3> DeadReckoning::pose_at(Time t) const {
                      fraction(states_[i].stamp, states_[i + 1].stamp, t));
 }
 
-Time DeadReckoning::first_time() const { return states_.empty() ? Time() : states_.front().stamp; }
+void DeadReckoning::forget_before(Time t) {
+  while (states_.size() >= 2 && states_[1].stamp <= t) states_.pop_front();
+}
+
+Time DeadReckoning::first_time() const { return states_.empty() ? Time() : first_state_; }
+Time DeadReckoning::kept_from() const { return states_.empty() ? Time() : states_.front().stamp; }
 Time DeadReckoning::last_time() const { return states_.empty() ? Time() : states_.back().stamp; }
 
 int64_t DeadReckoning::memory_bytes() const {

@@ -90,16 +90,25 @@ class DeadReckoning {
   std::optional<double> translation_sigma_m(Time a, Time b) const;
 
   // T_W_V at t: linear interpolation of translation and slerp of rotation between the
-  // neighbouring DR states (one per DVL reading). An error outside [first_time, last_time].
+  // neighbouring DR states (one per DVL reading). An error outside [kept_from, last_time].
   Result<SE3> pose_at(Time t) const;
 
+  // Releases the states no pose_at(t' >= t) needs: every state before the last one at or
+  // before t (issue 41: a long mission's trajectory is one 136-byte state per DVL reading,
+  // 3.6 MB an hour, and only the recent part is ever looked up). pose_at and
+  // translation_sigma_m at stamps >= t return exactly what they returned before; earlier
+  // stamps become errors. The caller (mapping::Pipeline) knows which stamps it will still ask.
+  void forget_before(Time t);
+
   bool empty() const { return states_.empty(); }
-  Time first_time() const;  // Time() when empty
+  Time first_time() const;  // the first state's stamp, kept or not; Time() when empty
   Time last_time() const;
+  Time kept_from() const;   // the oldest state still held; Time() when empty
+  size_t states_kept() const { return states_.size(); }
   const DrCounts& counts() const { return counts_; }
   const DrConfig& config() const { return config_; }
-  // Heap bytes of the DR trajectory (one state per DVL reading, kept whole: pairs and
-  // keyframes look poses up in it) and the recent sensor histories (core/memory.hpp).
+  // Heap bytes of the DR trajectory (one state per DVL reading since forget_before's stamp)
+  // and the recent sensor histories (core/memory.hpp).
   int64_t memory_bytes() const;
 
  private:
@@ -114,7 +123,8 @@ class DeadReckoning {
 
   DrConfig config_;
   DrCounts counts_;
-  std::vector<State> states_;
+  std::deque<State> states_;   // since forget_before's stamp (a deque: released from the front)
+  Time first_state_;           // the first state's stamp, released or not
   Time dvl_first_;        // the first DVL reading's stamp (the interval's mean: span / count)
   size_t dvl_readings_ = 0;
   std::deque<std::pair<Time, Quat>> imu_;       // recent (filtered) IMU orientations (pruned)

@@ -246,3 +246,45 @@ TEST_CASE("DR's translation sigma follows the DVL's noise figures, and grows ove
   DeadReckoning empty;
   CHECK_FALSE(empty.translation_sigma_m(Time::from_s(0), Time::from_s(1)).has_value());
 }
+
+TEST_CASE("DR forget_before releases old states and changes no later pose, bit for bit", "[unit]") {
+  // A turning, speed-varying run with a DVL outage, so poses and sigmas are not trivial.
+  const auto yaw = [](double t) { return 0.05 * t + 0.3 * std::sin(0.2 * t); };
+  const auto dvl = [](DvlReading& r) {
+    r.velocity_V_mps.x() = 0.4 + 0.1 * std::sin(r.stamp.seconds());
+    return r.stamp <= Time::from_s(40) || r.stamp > Time::from_s(47);
+  };
+  const auto whole = run(120.0, yaw, Vec3(0.4, 0.05, 0.0), dvl);
+  auto part = run(120.0, yaw, Vec3(0.4, 0.05, 0.0), dvl);
+  const size_t before = part.states_kept();
+  const Time cut = Time::from_ms(60'123);  // between DVL states (5 Hz)
+  part.forget_before(cut);
+  CHECK(part.states_kept() == 301);  // 60.0 s to 120 s at 5 Hz
+  CHECK(before > 500);
+  CHECK(part.memory_bytes() < whole.memory_bytes());
+  CHECK(part.kept_from() <= cut);                     // the state before the cut is kept...
+  CHECK(part.kept_from() > cut - Time::from_ms(200));  // ...and nothing older
+  CHECK(part.first_time() == whole.first_time());     // the first state's stamp is remembered
+  CHECK(part.last_time() == whole.last_time());
+  for (int64_t ms = 60'123; ms <= 120'000; ms += 37) {
+    const Time t = Time::from_ms(ms);
+    const auto a = whole.pose_at(t), b = part.pose_at(t);
+    REQUIRE(a.ok());
+    REQUIRE(b.ok());
+    CHECK(a->matrix() == b->matrix());
+  }
+  for (int64_t ms : {60'123, 70'000, 100'500})
+    CHECK(*whole.translation_sigma_m(Time::from_ms(ms), Time::from_s(120)) ==
+          *part.translation_sigma_m(Time::from_ms(ms), Time::from_s(120)));
+  // Before the kept history: an error that says the states were released.
+  const auto gone = part.pose_at(Time::from_s(30));
+  REQUIRE_FALSE(gone.ok());
+  CHECK(gone.error().message.find("released") != std::string::npos);
+  CHECK(whole.pose_at(Time::from_s(30)).ok());
+  // Forgetting again at an earlier stamp keeps what is held; past the end keeps the last state.
+  part.forget_before(Time::from_s(10));
+  CHECK(part.kept_from() <= cut);
+  part.forget_before(Time::from_s(500));
+  CHECK(part.states_kept() == 1);
+  CHECK(part.pose_at(Time::from_s(120)).ok());
+}

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -419,38 +420,70 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
   // The truth at most every 100 ms (TruthSpill::kShownSpacingNs): the tf stream's and the
   // truth trajectory's poses. A full-rate truth is 110 poses a second, 60 MB of text in an
   // hour, and traj_truth.tum already holds it whole. A run that kept its truth on disk has
-  // these poses in memory; one that kept it in memory thins it here by the same rule.
+  // these poses read back from its file as they are written (an 8-hour mission's 288,000
+  // are 32 MB: issue 41); one that kept it in memory thins it here by the same rule.
   std::vector<TruthPose> thinned;
-  if (!run.truth_all) thinned = TruthSpill::thin(run.truth);
-  const std::vector<TruthPose>& truth = run.truth_all ? run.truth_all->shown() : thinned;
+  if (!run.truth_all) {
+    thinned = TruthSpill::thin(run.truth);
+    std::stable_sort(thinned.begin(), thinned.end(), [](const TruthPose& a, const TruthPose& b) { return a.stamp < b.stamp; });
+  }
+  const size_t truth_count = run.truth_all ? run.truth_all->shown_count() : thinned.size();
+  const auto for_each_truth = [&](const std::function<void(const TruthPose&)>& f) -> Status {
+    if (run.truth_all) return run.truth_all->for_each_shown(f);
+    for (const TruthPose& p : thinned) f(p);
+    return {};
+  };
   static const std::vector<slam::Keyframe> kNoKeyframes;
   const std::vector<slam::Keyframe>& kfs = run.pipeline ? run.pipeline->slam().keyframes() : kNoKeyframes;
-  const auto truth_pose = [&](size_t j) { return pose_text(truth[j].p_W, truth[j].q_W_V); };
   const auto dr_pose = [&](size_t k) { return pose_text(kfs[k].T_W_V_dr); };
   const auto slam_pose = [&](size_t k) { return pose_text(kfs[k].T_W_V_slam); };
+  // The tf stream in stamp order, at equal stamps truth, dr, slam: the keyframes' transforms
+  // sorted here, merged with the truth as it is read (its stamps never decrease).
   struct Tf {
     Time stamp;
-    int order;  // truth, dr, slam at equal stamps
+    int order;  // dr 1, slam 2
     size_t index;
   };
   std::vector<Tf> tf;
-  tf.reserve(2 * kfs.size() + truth.size());
+  tf.reserve(2 * kfs.size());
   for (size_t k = 0; k < kfs.size(); ++k) {
     tf.push_back({kfs[k].stamp, 1, k});
     tf.push_back({kfs[k].stamp, 2, k});
   }
-  for (size_t j = 0; j < truth.size(); ++j) tf.push_back({truth[j].stamp, 0, j});
   std::stable_sort(tf.begin(), tf.end(), [](const Tf& a, const Tf& b) {
     return std::tie(a.stamp, a.order) < std::tie(b.stamp, b.order);
   });
-  if (!tf.empty()) {
-    const uint16_t ch = channel("/orthosonar/tf", "foxglove.FrameTransform", kFrameTransformSchema);
-    static constexpr const char* kChild[] = {"vehicle_truth", "vehicle_dr", "vehicle_slam"};
-    for (const Tf& f : tf) {
-      const PoseText pose = f.order == 0 ? truth_pose(f.index) : f.order == 1 ? dr_pose(f.index) : slam_pose(f.index);
-      if (Status st = emit(ch, f.stamp, transform_text(f.stamp, kChild[f.order], pose)); !st.ok()) return st;
+  // The truth trajectory is one message: at most kTruthTrajectoryPoses poses of the tf
+  // stream's, every stride-th (an 8-hour mission's 288,000 would be 45 MB of JSON), kept as
+  // they pass.
+  const size_t stride = (truth_count + kTruthTrajectoryPoses - 1) / kTruthTrajectoryPoses;  // 0 when empty
+  std::vector<TruthPose> truth_trajectory;
+  truth_trajectory.reserve(stride > 0 ? (truth_count + stride - 1) / stride : 0);
+  std::optional<uint16_t> tf_channel;
+  Status tf_status;
+  static constexpr const char* kChild[] = {"vehicle_truth", "vehicle_dr", "vehicle_slam"};
+  const auto emit_tf = [&](Time stamp, int order, const PoseText& pose) {
+    if (!tf_status.ok()) return;
+    if (!tf_channel) tf_channel = channel("/orthosonar/tf", "foxglove.FrameTransform", kFrameTransformSchema);
+    tf_status = emit(*tf_channel, stamp, transform_text(stamp, kChild[order], pose));
+  };
+  size_t next_kf = 0, truth_index = 0;
+  const auto emit_keyframes_before = [&](const Time* stamp) {  // all when stamp is null
+    for (; next_kf < tf.size() && (stamp == nullptr || tf[next_kf].stamp < *stamp); ++next_kf) {
+      const Tf& f = tf[next_kf];
+      emit_tf(f.stamp, f.order, f.order == 1 ? dr_pose(f.index) : slam_pose(f.index));
     }
-  }
+  };
+  if (Status st = for_each_truth([&](const TruthPose& p) {
+        emit_keyframes_before(&p.stamp);
+        const PoseText pose = pose_text(p.p_W, p.q_W_V);
+        emit_tf(p.stamp, 0, pose);
+        if (stride > 0 && truth_index++ % stride == 0) truth_trajectory.push_back(p);
+      });
+      !st.ok())
+    return st;
+  emit_keyframes_before(nullptr);
+  if (!tf_status.ok()) return tf_status;
 
   for (const auto& s : run.systems)
     if (Status st = emit(channel("/orthosonar/" + s.name + "/map", "foxglove.PointCloud", kPointCloudSchema), end,
@@ -463,11 +496,9 @@ Status write_results_mcap(const RunOutput& run, const std::string& path) {
     return emit(channel(std::string("/orthosonar/trajectory/") + name, "foxglove.PosesInFrame", kPosesInFrameSchema),
                 stamp_end, poses_text(n, pose, stamp_end));
   };
-  // The truth trajectory is one message: at most kTruthTrajectoryPoses poses of the tf
-  // stream's, every stride-th (an 8-hour mission's 288,000 would be 45 MB of JSON).
-  const size_t stride = (truth.size() + kTruthTrajectoryPoses - 1) / kTruthTrajectoryPoses;  // 0 when empty
-  const size_t truth_shown = stride > 0 ? (truth.size() + stride - 1) / stride : 0;
-  if (Status st = trajectory("truth", truth_shown, [&](size_t j) { return truth_pose(j * stride); }); !st.ok())
+  if (Status st = trajectory("truth", truth_trajectory.size(),
+                             [&](size_t j) { return pose_text(truth_trajectory[j].p_W, truth_trajectory[j].q_W_V); });
+      !st.ok())
     return st;
   if (Status st = trajectory("dr", kfs.size(), dr_pose); !st.ok()) return st;
   if (Status st = trajectory("slam", kfs.size(), slam_pose); !st.ok()) return st;

@@ -279,7 +279,7 @@ TEST_CASE("a simulated run's output directory has results.mcap, outside the dige
   const size_t truth_poses = r.messages.at("/orthosonar/trajectory/truth")[0]["poses"].size();
   CHECK(truth_poses > 0);
   REQUIRE(out->truth_all);  // the run kept its truth on disk (replay/run/truth_spill.hpp)
-  CHECK(truth_poses == out->truth_all->shown().size());
+  CHECK(truth_poses == out->truth_all->shown_count());
   CHECK(truth_poses < out->truth_all->size());
   for (const auto& s : out->systems) {
     CHECK_FALSE(s.map_W.empty());

@@ -19,7 +19,6 @@
 #include <tbb/task_arena.h>
 
 #include "core/perception/fusion.hpp"
-#include "hal/fake_source.hpp"
 #include "replay/fixture/fixture.hpp"
 
 namespace orthosonar::run {
@@ -35,9 +34,9 @@ namespace {
 
 // Fusion served from the preparation pass's results (a pair it did not fuse gets none).
 mapping::FuseFn cached_fusion(const PreparedSweep& prepared) {
-  return [&cache = prepared.fused](const SonarPing& h, const SonarPing& v) {
-    const auto it = cache.find({h.stamp.ns(), v.stamp.ns()});
-    return it == cache.end() ? perception::FusionResult{} : *it->second;
+  return [&cache = *prepared.fused](const SonarPing& h, const SonarPing& v) {
+    auto r = cache.get(h.stamp, v.stamp);
+    return r ? std::move(*r) : perception::FusionResult{};
   };
 }
 
@@ -67,13 +66,10 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
   SteadyClock clock;
   pipeline.set_executor(&pool);
   pipeline.set_clock(&clock);
-  std::mutex mu;
   const auto& fcfg = options.config.pipeline.fusion;
   pipeline.set_fusion([&](const SonarPing& h, const SonarPing& v) {
     auto r = perception::fuse_pair(h, v, fcfg);
-    auto keep = std::make_shared<perception::FusionResult>(r);
-    std::lock_guard lock(mu);
-    p.fused[{h.stamp.ns(), v.stamp.ns()}] = std::move(keep);
+    p.fused->put(h.stamp, v.stamp, r);
     return r;
   });
   const bool needs_h_images = std::any_of(options.systems.begin(), options.systems.end(), [](const std::string& s) {
@@ -98,10 +94,11 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
     }
     if (std::holds_alternative<SonarLabels>(light.payload)) continue;
     p.stream_s = (light.stamp - *first).seconds();
-    p.events.push_back(std::move(light));
+    p.events->push_back(std::move(light));
     if (progress && duration_s > 0.0 && (++n % 4096) == 0) progress(p.stream_s / duration_s);
   }
   pipeline.finish();
+  p.events->finish();
   for (const auto& [name, s] : pipeline.runtime())
     if (name == "fusion") p.fusion_runtime = s;
   if (std::find(options.systems.begin(), options.systems.end(), "inference_submap") != options.systems.end()) {
@@ -111,7 +108,7 @@ Result<PreparedSweep> prepare_sweep(const std::string& fixture, const RunOptions
     once.config.threads = 1;
     p.inference_cache = std::make_shared<inference::InferenceFrameCache>();
     once.inference_record = p.inference_cache.get();
-    hal::FakeSource source(p.events);
+    SweepEventSource source(*p.events);
     auto r = run_source(source, p.metadata, once, p.mesh, {}, cached_fusion(p));
     if (!r.ok()) return Error{"inference pass: " + r.error().message};
     for (const auto& s : r->systems)
@@ -128,7 +125,7 @@ Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& opt
   options.config.threads = 1;  // fusion is cached; cells run in parallel instead
   options.config.pipeline.slam.kf_distance_m = cell.distance_m;
   options.config.pipeline.slam.kf_rotation_deg = cell.rotation_deg;
-  hal::FakeSource source(prepared.events);
+  SweepEventSource source(*prepared.events);
   options.inference_replay = prepared.inference_cache.get();
   auto r = run_source(source, prepared.metadata, options, prepared.mesh, {}, cached_fusion(prepared));
   if (!r.ok()) return r.error();

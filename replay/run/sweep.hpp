@@ -16,6 +16,7 @@
 #include "core/mapping/pipeline.hpp"
 #include "core/mesh.hpp"
 #include "replay/run/run.hpp"
+#include "replay/run/sweep_store.hpp"
 
 namespace orthosonar::run {
 
@@ -36,8 +37,11 @@ Result<std::vector<uint64_t>> parse_seeds(const std::string& spec);
 struct PreparedSweep {
   std::map<std::string, std::string> metadata;
   RunConfig config;           // the effective configuration (every cell starts from it)
-  std::vector<Event> events;  // every event, sonar images removed
-  std::map<std::pair<int64_t, int64_t>, std::shared_ptr<const perception::FusionResult>> fused;
+  // Every event, sonar images removed, and every pair's fusion result, both held compactly
+  // (replay/run/sweep_store.hpp; issue 41). unique_ptr: SweepEventSource and the cells'
+  // fusion refer to them while a PreparedSweep may move.
+  std::unique_ptr<SweepEvents> events = std::make_unique<SweepEvents>();
+  std::unique_ptr<FusionCache> fused = std::make_unique<FusionCache>();
   std::optional<TriangleMesh> mesh;
   mapping::RuntimeStats fusion_runtime;
   double stream_s = 0.0;

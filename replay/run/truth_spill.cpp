@@ -45,18 +45,24 @@ TruthSpill::~TruthSpill() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
-void TruthSpill::show(std::vector<TruthPose>& shown, const TruthPose& p) {
-  if (shown.empty() || (p.stamp - shown.back().stamp).ns() >= kShownSpacingNs) shown.push_back(p);
+bool TruthSpill::show(Time stamp, Time& last, bool& first) {
+  if (!first && (stamp - last).ns() < kShownSpacingNs) return false;
+  last = stamp;
+  first = false;
+  return true;
 }
 
 std::vector<TruthPose> TruthSpill::thin(const std::vector<TruthPose>& truth) {
   std::vector<TruthPose> shown;
-  for (const TruthPose& p : truth) show(shown, p);
+  Time last;
+  bool first = true;
+  for (const TruthPose& p : truth)
+    if (show(p.stamp, last, first)) shown.push_back(p);
   return shown;
 }
 
 void TruthSpill::append(const TruthPose& p) {
-  show(shown_, p);
+  if (show(p.stamp, last_shown_, none_shown_)) ++shown_count_;
   if (buffer_.empty()) buffer_.reserve(kBufferPoses);
   buffer_.push_back(p);
   ++count_;
@@ -145,6 +151,14 @@ Status TruthSpill::for_each(const std::function<void(const TruthPose&)>& f) cons
   return {};
 }
 
-int64_t TruthSpill::memory_bytes() const { return heap_bytes(shown_) + heap_bytes(buffer_); }
+Status TruthSpill::for_each_shown(const std::function<void(const TruthPose&)>& f) const {
+  Time last;
+  bool first = true;
+  return for_each([&](const TruthPose& p) {
+    if (show(p.stamp, last, first)) f(p);
+  });
+}
+
+int64_t TruthSpill::memory_bytes() const { return heap_bytes(buffer_); }
 
 }  // namespace orthosonar::run

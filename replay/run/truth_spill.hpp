@@ -4,7 +4,8 @@
 // only traj_truth.tum needs whole; the metrics ask for the truth at keyframe stamps, and
 // results.mcap shows it at 10 Hz. TruthSpill appends every pose to an unlinked temporary
 // file (64 bytes a pose, host byte order: it never leaves the process) and keeps in memory
-// only the poses at most every 100 ms (the view's), plus a write buffer.
+// only a write buffer; the poses at most every 100 ms (results.mcap's view) are read back
+// from the file as they are shown (an 8-hour mission's 288,000 would be 32 MB).
 //
 // subset(stamps) gives the first and last poses and, for each stamp, the poses either side
 // of it in the whole stream (the stream's lower bound and the pose before it): interpolating
@@ -43,27 +44,32 @@ class TruthSpill {
 
   size_t size() const { return count_; }
   bool empty() const { return count_ == 0; }
-  // The poses at most every kShownSpacingNs (in memory).
-  const std::vector<TruthPose>& shown() const { return shown_; }
+  // The poses at most every kShownSpacingNs, in order, read back from the file (after
+  // finish()), and how many there are.
+  Status for_each_shown(const std::function<void(const TruthPose&)>& f) const;
+  size_t shown_count() const { return shown_count_; }
   // The same poses of a whole stream held in memory (a run without a spill).
   static std::vector<TruthPose> thin(const std::vector<TruthPose>& truth);
   // See the header comment. `stamps` in any order.
   Result<std::vector<TruthPose>> subset(const std::vector<Time>& stamps) const;
   // Every pose in order, read back in blocks.
   Status for_each(const std::function<void(const TruthPose&)>& f) const;
-  // Heap bytes held (core/memory.hpp's sense): the shown poses and the buffer.
+  // Heap bytes held (core/memory.hpp's sense): the write buffer.
   int64_t memory_bytes() const;
 
  private:
   explicit TruthSpill(std::FILE* f) : file_(f) {}
   Status read(size_t first, size_t n, std::vector<TruthPose>& out) const;
   Status flush_buffer();
-  // Appends p to `shown` when it is the first or kShownSpacingNs after the last one there.
-  static void show(std::vector<TruthPose>& shown, const TruthPose& p);
+  // The thinning rule: whether a pose at `stamp` is shown, given the last shown stamp (none
+  // yet: `first`); updates both when it is.
+  static bool show(Time stamp, Time& last, bool& first);
 
   std::FILE* file_ = nullptr;
   std::vector<TruthPose> buffer_;  // not yet written
-  std::vector<TruthPose> shown_;
+  Time last_shown_;
+  bool none_shown_ = true;
+  size_t shown_count_ = 0;
   size_t count_ = 0;
   size_t written_ = 0;
   std::string error_;
