@@ -2,6 +2,7 @@
 // top-level record prefixes, Schema / Channel / Message / Chunk records, and a chunk's
 // records decompressed (zstd, lz4) with sizes checked before allocating and CRC-checked.
 #include "replay/mcap/mcap_chunks.hpp"
+#include "replay/mcap/zstd_frame.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -311,16 +312,9 @@ Result<const uint8_t*> chunk_records(const MappedFile& file, const ChunkRef& c, 
       if (auto s = zstd_frame_streaming(path, c, src, scratch); !s) return s.error();
     } else {
       scratch.resize(c.uncompressed_size);
-      // One decompression context per thread, reused (ZSTD_decompress makes and frees one
-      // per call).
-      struct FreeDCtx {
-        void operator()(ZSTD_DCtx* d) const { ZSTD_freeDCtx(d); }
-      };
-      thread_local std::unique_ptr<ZSTD_DCtx, FreeDCtx> dctx(ZSTD_createDCtx());
-      const size_t n = dctx ? ZSTD_decompressDCtx(dctx.get(), scratch.data(), scratch.size(), src, c.compressed_size)
-                            : ZSTD_decompress(scratch.data(), scratch.size(), src, c.compressed_size);
-      if (ZSTD_isError(n)) return at(path, c.offset, std::string("chunk does not decompress (") + ZSTD_getErrorName(n) + ")");
-      if (n != c.uncompressed_size) return at(path, c.offset, "chunk decompresses to the wrong size");
+      const auto n = zstd_decompress(src, c.compressed_size, scratch.data(), scratch.size());
+      if (!n.ok()) return at(path, c.offset, "chunk does not decompress (" + n.error().message + ")");
+      if (*n != c.uncompressed_size) return at(path, c.offset, "chunk decompresses to the wrong size");
     }
     records = scratch.data();
   } else if (c.compression == "lz4") {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/memory.hpp"
+#include "replay/mcap/zstd_frame.hpp"
 
 namespace orthosonar::run {
 namespace {
@@ -17,11 +18,6 @@ namespace {
 // keeps one table per mount and frequency, so a short list finds it; a source whose every
 // ping has a table of its own costs a few comparisons per ping, not a search of all.
 constexpr size_t kRecentTables = 8;
-
-template <class T>
-int64_t deque_bytes(const std::deque<T>& d) {
-  return heap_bytes(d);
-}
 
 }  // namespace
 
@@ -112,9 +108,9 @@ Event SweepEvents::at(size_t i) const {
 }
 
 int64_t SweepEvents::memory_bytes() const {
-  int64_t n = heap_bytes(slots_) + deque_bytes(pings_) + deque_bytes(ping_table_) + heap_bytes(tables_) +
-              deque_bytes(dvl_) + deque_bytes(imu_) + deque_bytes(depth_) + deque_bytes(truth_) +
-              deque_bytes(labels_) + deque_bytes(gyro_);
+  int64_t n = heap_bytes(slots_) + heap_bytes(pings_) + heap_bytes(ping_table_) + heap_bytes(tables_) +
+              heap_bytes(dvl_) + heap_bytes(imu_) + heap_bytes(depth_) + heap_bytes(truth_) +
+              heap_bytes(labels_) + heap_bytes(gyro_);
   for (const auto& p : pings_) n += heap_bytes(p);
   for (const auto& t : tables_) n += heap_bytes(t);
   return n;
@@ -184,9 +180,11 @@ std::vector<perception::Detection> get_detections(Reader& r) {
   return d;
 }
 
-struct DCtxFree {
-  void operator()(ZSTD_DCtx* c) const { ZSTD_freeDCtx(c); }
-};
+// The float members of a fused point after p_V, each written as a column.
+constexpr float perception::FusedPoint::*kPointFloats[] = {
+    &perception::FusedPoint::range_m,     &perception::FusedPoint::bearing_rad, &perception::FusedPoint::elevation_rad,
+    &perception::FusedPoint::intensity_h, &perception::FusedPoint::intensity_v, &perception::FusedPoint::confidence};
+
 struct CCtxFree {
   void operator()(ZSTD_CCtx* c) const { ZSTD_freeCCtx(c); }
 };
@@ -200,9 +198,7 @@ std::vector<uint8_t> serialise_fusion(const perception::FusionResult& r) {
   w.put<uint64_t>(r.points.size());
   for (int k = 0; k < 3; ++k)
     for (const auto& p : r.points) w.put<float>(p.p_V[k]);
-  for (float perception::FusedPoint::*f : {&perception::FusedPoint::range_m, &perception::FusedPoint::bearing_rad,
-                                           &perception::FusedPoint::elevation_rad, &perception::FusedPoint::intensity_h,
-                                           &perception::FusedPoint::intensity_v, &perception::FusedPoint::confidence})
+  for (float perception::FusedPoint::*f : kPointFloats)
     for (const auto& p : r.points) w.put<float>(p.*f);
   put_detections(w, r.detections_h);
   put_detections(w, r.detections_v);
@@ -217,9 +213,7 @@ perception::FusionResult deserialise_fusion(const std::vector<uint8_t>& bytes) {
   r.points.resize(static_cast<size_t>(rd.get<uint64_t>()));
   for (int k = 0; k < 3; ++k)
     for (auto& p : r.points) p.p_V[k] = rd.get<float>();
-  for (float perception::FusedPoint::*f : {&perception::FusedPoint::range_m, &perception::FusedPoint::bearing_rad,
-                                           &perception::FusedPoint::elevation_rad, &perception::FusedPoint::intensity_h,
-                                           &perception::FusedPoint::intensity_v, &perception::FusedPoint::confidence})
+  for (float perception::FusedPoint::*f : kPointFloats)
     for (auto& p : r.points) p.*f = rd.get<float>();
   r.detections_h = get_detections(rd);
   r.detections_v = get_detections(rd);
@@ -253,13 +247,10 @@ std::optional<perception::FusionResult> FusionCache::get(Time h_stamp, Time v_st
   const unsigned long long size = ZSTD_getFrameContentSize(packed->data(), packed->size());
   if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
     throw std::runtime_error("sweep fusion cache: a cached result is not a zstd frame");
-  thread_local std::unique_ptr<ZSTD_DCtx, DCtxFree> dctx(ZSTD_createDCtx());
   std::vector<uint8_t> raw(static_cast<size_t>(size));
-  const size_t n = dctx ? ZSTD_decompressDCtx(dctx.get(), raw.data(), raw.size(), packed->data(), packed->size())
-                        : ZSTD_decompress(raw.data(), raw.size(), packed->data(), packed->size());
-  if (ZSTD_isError(n) || n != raw.size())
-    throw std::runtime_error(std::string("sweep fusion cache: zstd: ") +
-                             (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short result"));
+  const auto n = replay::mcap::zstd_decompress(packed->data(), packed->size(), raw.data(), raw.size());
+  if (!n.ok() || *n != raw.size())
+    throw std::runtime_error("sweep fusion cache: zstd: " + (n.ok() ? std::string("short result") : n.error().message));
   return deserialise_fusion(raw);
 }
 
