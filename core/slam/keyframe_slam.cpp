@@ -392,6 +392,7 @@ void KeyframeSlam::accept_loop(size_t factor, size_t clique_size) {
 
 void KeyframeSlam::solve(int leaf) {
   std::vector<GraphEdge> edges;
+  edges.reserve(factors_.size());
   const bool drifting = config_.heading_drift_sigma_dps > 0.0;
   std::vector<size_t> loops;  // factor index of each loop edge in `edges`, in order
   for (size_t i = 0; i < factors_.size(); ++i) {

@@ -7,15 +7,23 @@
 
 #include <ceres/ceres.h>
 
+#include "core/slam/pose_graph_pcg.hpp"
+
 namespace orthosonar::slam {
 
 void relative_pose_residual(const double* a, const double* b, const SE2& z,
                             const Eigen::Vector3d& sigma, double* residuals, double* J_a,
                             double* J_b) {
+  relative_pose_residual(a, b, z, {std::cos(a[2]), std::sin(a[2]), std::cos(z.theta), std::sin(z.theta)}, sigma,
+                         residuals, J_a, J_b);
+}
+
+void relative_pose_residual(const double* a, const double* b, const SE2& z, const HeadingTrig& trig,
+                            const Eigen::Vector3d& sigma, double* residuals, double* J_a, double* J_b) {
   const Eigen::Vector3d inv_sigma_ = sigma.cwiseInverse();
   const SE2& z_ = z;
-  const double ca = std::cos(a[2]), sa = std::sin(a[2]);
-  const double cz = std::cos(z_.theta), sz = std::sin(z_.theta);
+  const double ca = trig.cos_a, sa = trig.sin_a;
+  const double cz = trig.cos_z, sz = trig.sin_z;
   const double dx = b[0] - a[0], dy = b[1] - a[1];
   // q = R(a)^T (t_b - t_a) - t_z
   const double qx = ca * dx + sa * dy - z_.x;
@@ -254,6 +262,8 @@ PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
                                   const Eigen::Vector3d& prior_sigma,
                                   const std::vector<GraphEdge>& edges,
                                   const PoseGraphConfig& config, HeadingDrift* drift) {
+  if (config.linear_solver == PoseGraphConfig::LinearSolver::kChainPcg)
+    return solve_pose_graph_pcg(poses, prior, prior_sigma, edges, config, drift);
   PoseGraphSummary out;
   if (poses.empty()) return out;
   const bool drifting = drift != nullptr && drift->prior_sigma_rad_s > 0.0;
@@ -296,6 +306,10 @@ double edge_whitened_norm(const std::vector<SE2>& poses, const GraphEdge& e, dou
   Eigen::Vector3d r;
   relative_pose_residual(a, b, drift_corrected(e, rate_rad_s), e.sigma, r.data(), nullptr, nullptr);
   return (e.mix * r).norm();
+}
+
+const char* linear_solver_name(PoseGraphConfig::LinearSolver s) {
+  return s == PoseGraphConfig::LinearSolver::kChainPcg ? "chain_pcg" : "sparse_cholesky";
 }
 
 const char* loss_name(GraphEdge::Loss loss) {

@@ -184,7 +184,18 @@ Table root_table(RunConfig& c) {
                          return Table{{"max_iterations", kKeys.integer(g.max_iterations, 1, 10000)},
                                       {"function_tolerance", kKeys.real(g.function_tolerance, 0.0, 1.0)},
                                       {"initial_trust_region_radius", kKeys.real(g.initial_trust_region_radius, 0.0, 1e16, true)},
-                                      {"model_agreement_stop", kKeys.real(g.model_agreement_stop, 0.0, 1.0)}};
+                                      {"model_agreement_stop", kKeys.real(g.model_agreement_stop, 0.0, 1.0)},
+                                      {"linear_solver", kKeys.choice("chain_pcg, sparse_cholesky",
+                                                                     [&g](const std::string& v) {
+                                                                       for (auto m : slam::kLinearSolvers)
+                                                                         if (v == slam::linear_solver_name(m)) {
+                                                                           g.linear_solver = m;
+                                                                           return true;
+                                                                         }
+                                                                       return false;
+                                                                     })},
+                                      {"pcg_tolerance", kKeys.real(g.pcg_tolerance, 0.0, 1.0, true)},
+                                      {"pcg_max_iterations", kKeys.integer(g.pcg_max_iterations, 1, 1000000)}};
                        })},
                       {"fit_information", kKeys.nested([&s] {
                          auto& f = s.fit_information;
@@ -317,7 +328,10 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"solver", {{"max_iterations", s.solver.max_iterations},
                             {"function_tolerance", s.solver.function_tolerance},
                             {"initial_trust_region_radius", s.solver.initial_trust_region_radius},
-                            {"model_agreement_stop", s.solver.model_agreement_stop}}},
+                            {"model_agreement_stop", s.solver.model_agreement_stop},
+                            {"linear_solver", slam::linear_solver_name(s.solver.linear_solver)},
+                            {"pcg_tolerance", s.solver.pcg_tolerance},
+                            {"pcg_max_iterations", s.solver.pcg_max_iterations}}},
                 {"fit_information", {{"max_correspondence_m", s.fit_information.max_correspondence_m},
                                      {"normal_radius_m", s.fit_information.normal_radius_m},
                                      {"line_ratio", s.fit_information.line_ratio}}},
