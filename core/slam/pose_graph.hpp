@@ -31,12 +31,13 @@ struct PoseGraphConfig {
   double model_agreement_stop = 5e-2;  // measured: docs/BENCHMARKS.md
   // How the full solve's normal equations are solved. kChainPcg (core/slam/pose_graph_pcg.hpp):
   // conjugate gradients preconditioned by the odometry chain, cost O(edges) per CG
-  // iteration; the update at 5,000 keyframes with 3,778 loops in 15 ms instead of 400 ms.
+  // iteration; the solve at 5,000 keyframes in 12.8 ms instead of 351 ms (docs/BENCHMARKS.md).
   // kSparseCholesky: Ceres' Levenberg-Marquardt on Eigen's sparse LDLT, the reference (and
   // the solver of every release before 2026-12-07).
   enum class LinearSolver { kChainPcg, kSparseCholesky } linear_solver = LinearSolver::kChainPcg;
   // CG ends when the preconditioned residual norm sqrt(rᵀM⁻¹r) has fallen by this factor
-  // from the step's first; the step then agrees with the direct solve to about 1e-7 m.
+  // from the step's first; the poses then agree with the direct solve's to 1e-8 m or
+  // better (docs/SLAM.md "The full solve's linear algebra").
   double pcg_tolerance = 1e-9;
   int pcg_max_iterations = 1000;  // beyond: the step is solved by sparse LDLT instead
 };
@@ -113,7 +114,8 @@ void drifting_pose_residual(const double* a, const double* b, const GraphEdge& e
 // Optimises `poses` in place (they are the warm start). Pose 0 carries the prior. The
 // normal equations are solved as config.linear_solver says. With
 // drift->prior_sigma_rad_s > 0 the drift rate is estimated too (drift->rate_rad_s in and out).
-// Edges with a robust loss (GraphEdge::loss) get Ceres' loss function.
+// Edges with a robust loss (GraphEdge::loss) get Ceres' loss function (kSparseCholesky) or
+// its weight ρ' as iteratively reweighted least squares, which has the same optimum (kChainPcg).
 PoseGraphSummary solve_pose_graph(std::vector<SE2>& poses, const SE2& prior,
                                   const Eigen::Vector3d& prior_sigma,
                                   const std::vector<GraphEdge>& edges,

@@ -21,17 +21,6 @@ double loss_rho(GraphEdge::Loss loss, double scale, double s) {
   return s;
 }
 
-double loss_rho_derivative(GraphEdge::Loss loss, double scale, double s) {
-  if (scale <= 0.0) return 1.0;
-  const double b = scale * scale;
-  switch (loss) {
-    case GraphEdge::Loss::kNone: return 1.0;
-    case GraphEdge::Loss::kHuber: return s <= b ? 1.0 : std::sqrt(b / s);
-    case GraphEdge::Loss::kCauchy: return 1.0 / (1.0 + s / b);
-  }
-  return 1.0;
-}
-
 namespace {
 
 using M3 = Eigen::Matrix3d;
@@ -181,7 +170,7 @@ void normal_equations(const Problem& p, const State& x, Normal& ne) {
   for (size_t i = 0; i < p.edges.size(); ++i) {
     const GraphEdge& e = p.edges[i];
     const EdgeLinearisation l = linearise(p, x, i, true);
-    const double w = loss_rho_derivative(e.loss, e.loss_scale, l.r.squaredNorm());
+    const double w = robust_weight(e.loss, e.loss_scale, l.r.norm());  // ρ'(|r|²)
     const size_t a = static_cast<size_t>(e.from), b = static_cast<size_t>(e.to);
     if (a == b) {
       const M3 J = l.A + l.B;

@@ -28,9 +28,9 @@ PoseGraphSummary solve_pose_graph_pcg(std::vector<SE2>& poses, const SE2& prior,
                                       const std::vector<GraphEdge>& edges,
                                       const PoseGraphConfig& config, HeadingDrift* drift);
 
-// Ceres' loss functions' ρ(s) and ρ'(s) at a squared whitened residual norm s, as Ceres
-// defines them (HuberLoss(a), CauchyLoss(a)); kNone or scale <= 0: s and 1.
+// Ceres' loss functions' ρ(s) at a squared whitened residual norm s, as Ceres defines them
+// (HuberLoss(a), CauchyLoss(a)); kNone or scale <= 0: s. Its derivative ρ'(s) is
+// robust_weight(loss, scale, √s) (pose_graph.hpp).
 double loss_rho(GraphEdge::Loss loss, double scale, double s);
-double loss_rho_derivative(GraphEdge::Loss loss, double scale, double s);
 
 }  // namespace orthosonar::slam
