@@ -37,6 +37,9 @@ struct Outcome {
   double ate_slam = 0.0;
   bool connected = true;
   double drift_dps = 0.0;  // the estimated heading drift (slam.heading_drift_sigma_dps > 0)
+  // Keyframe heading against the truth, RMS in degrees (issue 33; metrics.json's
+  // heading_error_dr / heading_error_slam).
+  double heading_rms_dr_deg = 0.0, heading_rms_slam_deg = 0.0;
   slam::DrCounts dr_counts;
 };
 
@@ -87,8 +90,12 @@ Outcome fly(const Mission& m) {
   REQUIRE(r.ok());
   REQUIRE(r->ate_dr_m.has_value());
   REQUIRE(r->ate_slam_m.has_value());
+  REQUIRE(r->heading_dr.has_value());
+  REQUIRE(r->heading_slam.has_value());
 
   Outcome o;
+  o.heading_rms_dr_deg = r->heading_dr->rms_deg;
+  o.heading_rms_slam_deg = r->heading_slam->rms_deg;
   const slam::KeyframeSlam& slam = r->pipeline->slam();
   o.keyframes = slam.keyframes().size();
   o.loops = slam.accepted_loop_closures();
@@ -104,9 +111,11 @@ Outcome fly(const Mission& m) {
     }
     o.connected &= linked;
   }
-  std::printf("slam mission %s %.0f s seed %llu%s: keyframes %zu, loop closures %zu, ATE DR %.3f m, SLAM %.3f m, drift %.4f deg/s\n",
+  std::printf("slam mission %s %.0f s seed %llu%s: keyframes %zu, loop closures %zu, ATE DR %.3f m, SLAM %.3f m, "
+              "heading RMS DR %.3f deg, SLAM %.3f deg, drift %.4f deg/s\n",
               m.scene.c_str(), m.duration_s, static_cast<unsigned long long>(m.seed),
-              m.consumer_heading ? " (consumer heading)" : "", o.keyframes, o.loops, o.ate_dr, o.ate_slam, o.drift_dps);
+              m.consumer_heading ? " (consumer heading)" : "", o.keyframes, o.loops, o.ate_dr, o.ate_slam,
+              o.heading_rms_dr_deg, o.heading_rms_slam_deg, o.drift_dps);
   return o;
 }
 
@@ -135,19 +144,27 @@ constexpr const char* kDriftConfig =
 // Since loop closures need 25 points instead of 50 (2026-12-03) this mission closes 11 loops
 // on the hull and SLAM is 0.65 m here (0.31 m without them), while the 20 full-resolution
 // fixtures of docs/RESULTS.md improved: a known regression of this mission, bounded at 0.7 m.
+// Keyframe heading (issue 33; recorded 2026-12-07: DR 1.39 deg RMS, SLAM 0.54 deg): bounded
+// where it is, 0.6 deg, and to half of DR's. Issue 33's target, 0.3 deg, is not met here.
 TEST_CASE("harbor beyond one lap, drifting AHRS: SLAM within 0.7 m of truth and at most half of DR", "[golden]") {
   const auto r = fly(mission("harbor", 1000.0, 1));
   CHECK(r.connected);
   CHECK(r.ate_slam <= 0.7);
   CHECK(r.ate_slam <= 0.5 * r.ate_dr);
+  CHECK(r.heading_rms_slam_deg <= 0.6);
+  CHECK(r.heading_rms_slam_deg <= 0.5 * r.heading_rms_dr_deg);
 }
 
+// Keyframe heading (recorded 2026-12-07: DR 1.89 deg RMS, SLAM 0.44 deg): bounded at 0.5 deg
+// and a third of DR's; issue 33's 0.3 deg is not met here either.
 TEST_CASE("marina1 two laps, drifting AHRS: SLAM within 0.35 m of truth and at most half of DR", "[golden]") {
   const auto r = fly(mission("marina1", 840.0));
   CHECK(r.connected);
   CHECK(r.loops >= 1);
   CHECK(r.ate_slam <= 0.35);
   CHECK(r.ate_slam <= 0.5 * r.ate_dr);
+  CHECK(r.heading_rms_slam_deg <= 0.5);
+  CHECK(r.heading_rms_slam_deg <= r.heading_rms_dr_deg / 3.0);
 }
 
 // A consumer-grade heading with the configuration documented for it (docs/CONFIG.md): the
@@ -165,6 +182,8 @@ TEST_CASE("marina1 two laps, consumer-grade heading, drift estimated: the rate f
   CHECK(r.ate_slam <= 0.3);
   CHECK(r.ate_slam <= 0.1 * r.ate_dr);
   CHECK(std::abs(r.drift_dps - 0.05) <= 0.01);
+  // The heading with the drift taken out (recorded 2026-12-07: DR 23.8 deg RMS, SLAM 0.29).
+  CHECK(r.heading_rms_slam_deg <= 0.35);
 }
 
 // The paper's vehicle (the simulator's default): the FOG holds DR's heading, the DR factor
@@ -179,6 +198,10 @@ TEST_CASE("marina1 two laps, the paper's vehicle (defaults): SLAM no worse than 
   CHECK(r.ate_slam <= r.ate_dr);
   CHECK(r.ate_slam <= 0.15);
   CHECK(r.dr_counts.gyro.used > 200000);
+  // The FOG's heading, which the graph must not spoil (recorded 2026-12-07: DR 0.067 deg
+  // RMS, SLAM 0.065 deg).
+  CHECK(r.heading_rms_dr_deg <= 0.1);
+  CHECK(r.heading_rms_slam_deg <= r.heading_rms_dr_deg + 0.01);
 }
 
 // With the paper's vehicle: the DVL's translation sigma grows over the outage (DR there is a

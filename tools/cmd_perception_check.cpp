@@ -106,6 +106,12 @@ void print_measured(const MeasuredProfile& r) {
     std::printf(" %s%.0f-%.0f deg: %zu points MAE %.3f RMSE %.3f p90 %.3f", b.lo_deg > 0 ? "| " : "", b.lo_deg,
                 b.hi_deg, b.points, b.figures.mae, b.figures.rmse, b.figures.p90);
   std::printf("\n");
+  // How much of the error the choice among candidates explains (issue 34).
+  const mapping::AssociationBound ab = mapping::association_bound(f);
+  std::printf("  association bound: MAE as fused %.3f | with the best v candidate of each point's range bin %.3f | "
+              "with the best elevation in the overlap %.3f | points whose bin had one v candidate: %zu, MAE %.3f\n",
+              ab.mae_fused, ab.mae_best_candidate, ab.mae_best_elevation, ab.single_candidate_points,
+              ab.single_candidate_mae);
 }
 
 int run_check(CheckArgs a) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <tuple>
 
 namespace orthosonar::mapping {
@@ -151,6 +152,25 @@ std::optional<double> absolute_trajectory_error(const std::vector<StampedPositio
   }
   if (n == 0) return std::nullopt;
   return std::sqrt(sum_sq / static_cast<double>(n));
+}
+
+std::optional<HeadingErrorStats> heading_error(const std::vector<StampedPose>& estimate,
+                                               const std::vector<TruthPose>& truth) {
+  HeadingErrorStats st;
+  double sum = 0.0, sum_sq = 0.0;
+  for (const auto& e : estimate) {
+    const auto T = truth_pose_at(truth, e.stamp);
+    if (!T) continue;
+    const double d = wrap_angle(yaw_of(Quat(e.T_W_V.rotation())) - yaw_of(Quat(T->rotation()))) * 180.0 / std::numbers::pi;
+    sum += d;
+    sum_sq += d * d;
+    st.max_abs_deg = std::max(st.max_abs_deg, std::abs(d));
+    ++st.count;
+  }
+  if (st.count == 0) return std::nullopt;
+  st.rms_deg = std::sqrt(sum_sq / static_cast<double>(st.count));
+  st.mean_deg = sum / static_cast<double>(st.count);
+  return st;
 }
 
 }  // namespace orthosonar::mapping

@@ -74,4 +74,23 @@ class TruthTrack {
 std::optional<double> absolute_trajectory_error(const std::vector<StampedPosition>& estimate,
                                                 const std::vector<TruthPose>& truth);
 
+// A timed pose (keyframes' DR or SLAM estimate).
+struct StampedPose {
+  Time stamp;
+  SE3 T_W_V = SE3::Identity();
+};
+// Heading error against truth (issue 33): for every estimate inside the truth span, the
+// yaw of the estimate minus the yaw of the truth pose slerped to its stamp, wrapped to
+// (-180, 180] degrees, with no alignment (like the ATE: the heading reference's drift is
+// part of the error). Estimates outside the truth span are skipped.
+struct HeadingErrorStats {
+  int64_t count = 0;
+  double rms_deg = 0.0;
+  double mean_deg = 0.0;     // the signed mean (a bias the graph did not remove)
+  double max_abs_deg = 0.0;
+};
+// nullopt when no estimate is inside the truth span.
+std::optional<HeadingErrorStats> heading_error(const std::vector<StampedPose>& estimate,
+                                               const std::vector<TruthPose>& truth);
+
 }  // namespace orthosonar::mapping

@@ -1,6 +1,7 @@
 #include "core/mapping/metrics.hpp"
 
 #include <catch2/catch.hpp>
+#include <numbers>
 
 #include "core/mapping/mesh_distance.hpp"
 #include "core/mapping/perception_metrics.hpp"
@@ -10,6 +11,7 @@ using namespace orthosonar;
 using namespace orthosonar::mapping;
 
 namespace {
+constexpr double kPiMetricsTest = std::numbers::pi;
 
 TriangleMesh random_mesh(Rng& rng, int n) {
   TriangleMesh m;
@@ -121,6 +123,30 @@ TEST_CASE("ATE against a known trajectory", "[unit]") {
   CHECK(*absolute_trajectory_error(est, truth) == Approx(std::sqrt(0.125)));
   CHECK(*absolute_trajectory_error({{Time::from_s(3), Vec3(3, 0, 0)}}, truth) == 0.0);
   CHECK_FALSE(absolute_trajectory_error({}, truth).has_value());
+}
+
+TEST_CASE("keyframe heading error against truth: wrapped, signed, pitch and roll ignored", "[unit]") {
+  // Truth turns from 170 deg to 190 deg (-170) over 2 s: the error wraps across +-180.
+  std::vector<TruthPose> truth(2);
+  truth[0].stamp = Time::from_s(0);
+  truth[0].q_W_V = Quat(Eigen::AngleAxisd(170.0 * kPiMetricsTest / 180.0, Vec3::UnitZ()));
+  truth[1].stamp = Time::from_s(2);
+  truth[1].q_W_V = Quat(Eigen::AngleAxisd(190.0 * kPiMetricsTest / 180.0, Vec3::UnitZ()));
+  auto est_at = [](double s, double yaw_deg, double pitch_deg) {
+    return StampedPose{Time::from_s(s), se3_from_xyz_rpy(0, 0, 0, 0.0, pitch_deg * kPiMetricsTest / 180.0, yaw_deg * kPiMetricsTest / 180.0)};
+  };
+  // At 1 s the truth is at 180 deg: an estimate of -179 deg is +1 deg off, one of 177 deg
+  // -3 deg; one pitched by 5 deg at the truth's yaw is 0 off; one after the truth span is
+  // skipped.
+  const std::vector<StampedPose> est = {est_at(1, -179, 0), est_at(1, 177, 0), est_at(2, 190, 5), est_at(3, 0, 0)};
+  const auto h = heading_error(est, truth);
+  REQUIRE(h.has_value());
+  CHECK(h->count == 3);
+  CHECK(h->rms_deg == Approx(std::sqrt((1.0 + 9.0 + 0.0) / 3.0)).epsilon(1e-9));
+  CHECK(h->mean_deg == Approx(-2.0 / 3.0).epsilon(1e-9));
+  CHECK(h->max_abs_deg == Approx(3.0).epsilon(1e-9));
+  CHECK_FALSE(heading_error({est_at(5, 0, 0)}, truth).has_value());
+  CHECK_FALSE(heading_error({}, truth).has_value());
 }
 
 TEST_CASE("truth pose interpolated in position and orientation", "[unit]") {

@@ -32,12 +32,36 @@ void tally_image(const SonarPing& ping, const std::vector<uint8_t>& semantic,
 
 namespace {
 
+constexpr double kBoundStepRad = 0.2 * std::numbers::pi / 180.0;  // the association bound's elevation grid
+
 double sorted_quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
   return v[static_cast<size_t>(std::floor(q * static_cast<double>(v.size() - 1)))];
 }
 
 }  // namespace
+
+AssociationBound association_bound(const FusionTally& f) {
+  AssociationBound b;
+  const double nan = std::nan("");
+  auto mean = [nan](const std::vector<double>& v) {
+    if (v.empty()) return nan;
+    double s = 0;
+    for (double x : v) s += x;
+    return s / static_cast<double>(v.size());
+  };
+  b.mae_fused = mean(f.err);
+  b.mae_best_candidate = mean(f.err_best_candidate);
+  b.mae_best_elevation = mean(f.err_best_elevation);
+  double s = 0;
+  for (size_t i = 0; i < f.err.size() && i < f.bin_candidates_v.size(); ++i)
+    if (f.bin_candidates_v[i] == 1) {
+      ++b.single_candidate_points;
+      s += f.err[i];
+    }
+  b.single_candidate_mae = b.single_candidate_points ? s / static_cast<double>(b.single_candidate_points) : nan;
+  return b;
+}
 
 FusionFigures fusion_figures(const std::vector<double>& err) {
   if (err.empty()) return {std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan("")};
@@ -143,6 +167,20 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
         const MeshDistance::Nearest near = dist_.nearest(p_W);
         f.err.push_back(near.distance);
         f.surface_deg.push_back(static_cast<float>(surface_angle_from_vertical_deg(near.normal)));
+        // The association bound: the same point with each alternative elevation.
+        auto dist_at = [&](double phi) {
+          const Vec3 q_V = cfg_.T_V_h * spherical_to_cartesian(p.range_m, p.bearing_rad, phi);
+          return dist_.nearest(*T_W_V * q_V).distance;
+        };
+        double best_c = near.distance;
+        for (uint32_t k = 0; k < p.bin_count && p.bin_first + k < r.bin_elevations_rad.size(); ++k)
+          best_c = std::min(best_c, dist_at(r.bin_elevations_rad[p.bin_first + k]));
+        double best_e = near.distance;
+        const int steps = static_cast<int>(std::floor(overlap_rad_ / kBoundStepRad));
+        for (int k = -steps; k <= steps; ++k) best_e = std::min(best_e, dist_at(k * kBoundStepRad));
+        f.err_best_candidate.push_back(best_c);
+        f.err_best_elevation.push_back(best_e);
+        f.bin_candidates_v.push_back(p.bin_count);
         if (f.keep_points)
           f.points.push_back({p_W.cast<float>(), p.range_m, p.bearing_rad, p.elevation_rad, p.confidence,
                               h.stamp.seconds()});

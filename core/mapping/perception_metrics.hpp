@@ -46,6 +46,12 @@ struct FusionTally {
   // In err's order: the angle (deg) of the nearest mesh surface from vertical (0 a wall, 90
   // a flat bottom): the error split by surface slope (issue 34).
   std::vector<float> surface_deg;
+  // The association bound (issue 34), in err's order: the distance had the point taken the
+  // best of its range bin's v candidates (the alternatives Eq. 6 chose among), and the best
+  // elevation anywhere in the overlap (every 0.2°; how far the h return's arc passes from
+  // the surface); and how many v candidates its bin had.
+  std::vector<double> err_best_candidate, err_best_elevation;
+  std::vector<uint32_t> bin_candidates_v;
   bool keep_points = false;  // keep each point's fields below, in err's order
   struct Point {
     Eigen::Vector3f p_W;  // true-pose world position
@@ -61,6 +67,17 @@ struct FusionFigures {
   double median, p90, mae, rmse, within;
 };
 FusionFigures fusion_figures(const std::vector<double>& err);
+
+// The association bound's figures (FusionTally): MAE as fused, with the best v candidate of
+// each point's range bin, with the best elevation in the overlap; and the points whose bin
+// had a single v candidate (nothing to choose: Eq. 6 cannot be the cause) with their MAE.
+struct AssociationBound {
+  double mae_fused = 0, mae_best_candidate = 0, mae_best_elevation = 0;
+  size_t single_candidate_points = 0;
+  double single_candidate_mae = 0;
+};
+// NaN MAEs when the tally has no point.
+AssociationBound association_bound(const FusionTally& f);
 
 // The same per band of the nearest surface's angle from vertical: [0, 10) walls and piles,
 // [10, 30) steep slopes (the example breakwater's 25° armour faces, a hull's side), [30, 60)

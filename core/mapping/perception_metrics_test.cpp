@@ -127,6 +127,26 @@ TEST_CASE("fusion figures split by the nearest surface's angle from vertical", "
   CHECK(std::isnan(none[2].figures.mae));
 }
 
+TEST_CASE("association bound: MAE as fused, with the best candidate, the best elevation, single-candidate points",
+          "[unit]") {
+  FusionTally f;
+  f.err = {0.4, 0.2, 0.6};
+  f.err_best_candidate = {0.1, 0.2, 0.3};
+  f.err_best_elevation = {0.0, 0.05, 0.1};
+  f.bin_candidates_v = {1, 3, 1};
+  const AssociationBound b = association_bound(f);
+  CHECK(b.mae_fused == Approx(0.4));
+  CHECK(b.mae_best_candidate == Approx(0.2));
+  CHECK(b.mae_best_elevation == Approx(0.05));
+  CHECK(b.single_candidate_points == 2);
+  CHECK(b.single_candidate_mae == Approx(0.5));
+  const AssociationBound none = association_bound(FusionTally{});
+  CHECK(std::isnan(none.mae_fused));
+  CHECK(std::isnan(none.mae_best_candidate));
+  CHECK(none.single_candidate_points == 0);
+  CHECK(std::isnan(none.single_candidate_mae));
+}
+
 TEST_CASE("truth track: truth_pose_at inside, held at the ends, forgets only what is behind", "[unit]") {
   std::vector<TruthPose> truth = {truth_at(Time::from_s(1), 0), truth_at(Time::from_s(2), 1),
                                   truth_at(Time::from_s(3), 4)};

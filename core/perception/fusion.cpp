@@ -259,6 +259,8 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
     }
     const std::vector<int> match = solve_assignment(cost);              // step 6
     const double total = cost.sum();
+    const auto bin_first = static_cast<uint32_t>(res.bin_elevations_rad.size());
+    bool bin_listed = false;
     for (Eigen::Index i = 0; i < nh; ++i) {
       const int j = match[static_cast<size_t>(i)];
       if (j < 0) continue;
@@ -288,6 +290,13 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
       fp.intensity_h = static_cast<float>(std::min(1.0, a.intensity * inv_h));
       fp.intensity_v = static_cast<float>(std::min(1.0, b.intensity * inv_v));
       fp.confidence = static_cast<float>(conf);
+      if (!bin_listed) {
+        for (Eigen::Index k = 0; k < nv; ++k)
+          res.bin_elevations_rad.push_back(static_cast<float>(v.bearings_rad[static_cast<size_t>(cv[j0 + static_cast<size_t>(k)].col)]));
+        bin_listed = true;
+      }
+      fp.bin_first = bin_first;
+      fp.bin_count = static_cast<uint32_t>(nv);
       res.points.push_back(fp);
     }
     i0 = i1;

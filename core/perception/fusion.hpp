@@ -8,6 +8,7 @@
 // for the orientation of the rotated v patch (rot90) used by the cost of Eq. 5.
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/events.hpp"
@@ -58,10 +59,19 @@ struct FusedPoint {
   float intensity_h = 0;    // normalised [0, 1]
   float intensity_v = 0;    // normalised [0, 1]
   float confidence = 0;     // Eq. 6
+  // The v candidates of this point's range bin (the alternatives Eq. 6 chose among):
+  // FusionResult::bin_elevations_rad[bin_first, bin_first + bin_count). For diagnosis
+  // (perception-check's association bound, issue 34); nothing downstream reads them, and
+  // the sweep's fusion store (replay/run/sweep_store.hpp) does not keep them.
+  uint32_t bin_first = 0;
+  uint32_t bin_count = 0;
 };
 
 struct FusionResult {
   std::vector<FusedPoint> points;             // ordered by (h row, h col)
+  // φ of every v candidate of each range bin that produced a point, bin after bin
+  // (FusedPoint::bin_first / bin_count index it).
+  std::vector<float> bin_elevations_rad;
   std::vector<Detection> detections_h;        // all CFAR detections, row-major
   std::vector<Detection> detections_v;        // inside the overlap only (the rest is never used)
   size_t candidates_h = 0;                    // detections inside the overlap

@@ -119,6 +119,30 @@ TEST_CASE("Two targets at the same range are associated by patch cost", "[unit]"
   CHECK(r.matches == r.points.size() + r.culled_low_confidence);
 }
 
+TEST_CASE("Each point lists its range bin's v candidates, its own elevation among them", "[unit]") {
+  // Two full blobs per image at one range: the bins at that range have both v candidates.
+  SonarPing h = noise_ping(SonarMount::kHorizontal, 23, 6.0);
+  SonarPing v = noise_ping(SonarMount::kVertical, 24, 6.0);
+  draw_blob(h, 5.0, -6.0 * kDeg, 230, 200);
+  draw_blob(h, 5.0, 6.0 * kDeg, 230, 200);
+  draw_blob(v, 5.0, 5.0 * kDeg, 230, 200);
+  draw_blob(v, 5.0, -5.0 * kDeg, 230, 200);
+  FusionConfig keep_all;
+  keep_all.min_confidence = -1.0;  // every match, however ambiguous
+  const FusionResult r = fuse_pair(h, v, keep_all);
+  REQUIRE_FALSE(r.points.empty());
+  size_t with_both = 0;
+  for (const FusedPoint& p : r.points) {
+    REQUIRE(p.bin_count >= 1);
+    REQUIRE(p.bin_first + p.bin_count <= r.bin_elevations_rad.size());
+    const auto first = r.bin_elevations_rad.begin() + p.bin_first;
+    CHECK(std::find(first, first + p.bin_count, p.elevation_rad) != first + p.bin_count);
+    with_both += std::any_of(first, first + p.bin_count, [](float e) { return e > 0.0f; }) &&
+                 std::any_of(first, first + p.bin_count, [](float e) { return e < 0.0f; });
+  }
+  CHECK(with_both >= 2);  // both h blobs chose between the two v blobs
+}
+
 TEST_CASE("Confidence threshold culls ambiguous matches", "[unit]") {
   FusionConfig strict;
   strict.min_confidence = 2.0;  // above any C with alternatives (C <= 1)

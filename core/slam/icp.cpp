@@ -179,7 +179,7 @@ struct Match {
 
 // Closed-form 2D rigid alignment (Kabsch/Umeyama without scale): T with T * s ≈ t.
 SE2 align(const std::vector<Eigen::Vector2d>& src, const std::vector<Eigen::Vector2d>& tgt,
-          const std::vector<Match>& m) {
+          const std::vector<Match>& m, bool fix_rotation) {
   Eigen::Vector2d ms = Eigen::Vector2d::Zero(), mt = Eigen::Vector2d::Zero();
   for (const Match& c : m) {
     ms += src[c.source];
@@ -188,6 +188,7 @@ SE2 align(const std::vector<Eigen::Vector2d>& src, const std::vector<Eigen::Vect
   const double n = static_cast<double>(m.size());
   ms /= n;
   mt /= n;
+  if (fix_rotation) return SE2{mt.x() - ms.x(), mt.y() - ms.y(), 0.0};
   double sxx = 0.0, sxy = 0.0;  // sum of dot and cross products of centred pairs
   for (const Match& c : m) {
     const Eigen::Vector2d a = src[c.source] - ms, b = tgt[c.target] - mt;
@@ -255,7 +256,7 @@ IcpResult icp_2d(const std::vector<Eigen::Vector2d>& source,
     // Solve for the increment that maps the currently transformed source onto the target.
     std::vector<Eigen::Vector2d> moved(source.size());
     for (const Match& m : matches) moved[m.source] = T * source[m.source];
-    const SE2 dT = align(moved, target, matches);
+    const SE2 dT = align(moved, target, matches, config.fix_rotation);
     const SE2 before = T;
     T = dT * T;
     // Besl & McKay's accelerated ICP: when successive steps in (x, y, L·θ) point the same

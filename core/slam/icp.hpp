@@ -20,6 +20,9 @@ struct IcpConfig {
   double converged_rotation_rad = 1e-5;   // ... and rotates less than this
   size_t min_correspondences = 10;
   bool accelerate = true;  // Besl & McKay (1992) extrapolation of aligned successive steps
+  // Translation only: the rotation stays the initial guess's (a heading known better than
+  // the fit could find it, e.g. a FOG's: keyframe_slam.hpp nssm_fixed_heading_gyro).
+  bool fix_rotation = false;
 };
 
 struct IcpResult {

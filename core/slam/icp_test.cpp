@@ -28,6 +28,30 @@ TEST_CASE("ICP recovers a known SE2 transform of a scan", "[unit]") {
   CHECK(r.rmse < 1e-6);
 }
 
+TEST_CASE("ICP with a fixed rotation solves for translation only, at the initial heading", "[unit]") {
+  const auto world = make_basin_world(7);
+  const auto raw = synthetic_scan_V(world, {10.0, -20.0, 0.3}, {}, 1, 0);
+  std::vector<Eigen::Vector2d> target;
+  for (size_t i = 0; i < raw.size(); i += 6) target.push_back(raw[i]);
+  const SE2 T{0.8, -0.5, 0.08};
+  std::vector<Eigen::Vector2d> source;
+  for (const auto& p : target) source.push_back(T.inverse() * p);
+  IcpConfig fixed;
+  fixed.fix_rotation = true;
+  // Started at the true heading: the translation is found exactly and the heading kept.
+  const auto r = icp_2d(source, target, SE2{0.0, 0.0, T.theta}, fixed);
+  REQUIRE(r.converged);
+  CHECK(r.T_target_source.theta == T.theta);
+  CHECK(r.T_target_source.x == Approx(T.x).margin(1e-3));
+  CHECK(r.T_target_source.y == Approx(T.y).margin(1e-3));
+  CHECK(r.rmse < 1e-6);
+  // Started 0.02 rad off: the heading stays where it was put (the free fit would correct it).
+  const auto off = icp_2d(source, target, SE2{0.0, 0.0, T.theta + 0.02}, fixed);
+  CHECK(off.T_target_source.theta == T.theta + 0.02);
+  const auto free_fit = icp_2d(source, target, SE2{0.0, 0.0, T.theta + 0.02}, {});
+  CHECK(free_fit.T_target_source.theta == Approx(T.theta).margin(1e-4));
+}
+
 TEST_CASE("ICP reports failure without enough correspondences", "[unit]") {
   std::vector<Eigen::Vector2d> a{{0, 0}, {1, 0}}, b{{100, 100}};
   const auto r = icp_2d(a, b, SE2::identity(), {});

@@ -35,7 +35,35 @@ Eigen::Matrix3d Factor::covariance() const {
 }
 
 void KeyframeSlam::shape(Factor& f, const std::vector<Eigen::Vector2d>& source,
-                         const std::vector<Eigen::Vector2d>& target) const {
+                         const std::vector<Eigen::Vector2d>& target, bool translation_only) const {
+  if (translation_only) {
+    // The heading row of the residual is dropped (weight 0: covariance() then reads it as
+    // unobserved); the translation block is shaped as below.
+    Eigen::Matrix2d V = Eigen::Matrix2d::Identity();
+    Eigen::Vector2d w = Eigen::Vector2d::Ones();
+    int weakened = 0;
+    if (config_.degeneracy_ratio > 0.0) {
+      const FitInformation fit = icp_fit_information(source, target, f.T_from_to, config_.fit_information);
+      const Eigen::Matrix2d S = f.sigma.head<2>().asDiagonal();
+      const Eigen::Matrix2d Hu = S * fit.hessian.topLeftCorner<2, 2>() * S;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(Hu);
+      const Eigen::Vector2d lambda = es.eigenvalues();
+      if (lambda(1) > 0.0) {
+        V = es.eigenvectors();
+        for (int k = 0; k < 2; ++k) {
+          w(k) = std::clamp(lambda(k) / (config_.degeneracy_ratio * lambda(1)), 0.0, 1.0);
+          if (w(k) < 1.0) ++weakened;
+        }
+      }
+    }
+    f.mix.setZero();
+    f.mix.topLeftCorner<2, 2>() = w.cwiseSqrt().asDiagonal() * V.transpose();
+    f.weakened = weakened + 1;
+    f.reason += " (heading from the gyro";
+    if (weakened > 0) f.reason += ", " + std::to_string(weakened) + " weak direction" + (weakened > 1 ? "s" : "");
+    f.reason += ")";
+    return;
+  }
   if (config_.degeneracy_ratio <= 0.0) return;
   const FitInformation fit = icp_fit_information(source, target, f.T_from_to, config_.fit_information);
   // In sigma-whitened coordinates u = e / sigma the nominal information is the identity.
@@ -296,7 +324,10 @@ void KeyframeSlam::loop_closure(int id) {
                                          gate_fov_deg(), config_.sonar_x_m);
   const auto source = seen_from(cur.cloud_V, T_W_new, ids);
   if (target.size() < config_.nssm_min_points || source.size() < config_.nssm_min_points) return;
-  const IcpResult icp = icp_2d(source, target, T_anchor_new, config_.icp);
+  const bool fixed_heading = dr_from_sensors_ && config_.nssm_fixed_heading_gyro;
+  IcpConfig icp_config = config_.icp;
+  icp_config.fix_rotation = fixed_heading;
+  const IcpResult icp = icp_2d(source, target, T_anchor_new, icp_config);
   Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source,
            dr_from_sensors_ ? config_.sigma_loop_gyro : config_.sigma_loop, false, ""};
   if (!icp.converged) {
@@ -306,7 +337,7 @@ void KeyframeSlam::loop_closure(int id) {
   } else if (icp.inliers < config_.nssm_min_points) {
     f.reason = "too few icp inliers";
   } else {
-    shape(f, source, target);  // appends its weak directions to the reason
+    shape(f, source, target, fixed_heading);  // appends its weak directions to the reason
     if (disagrees_with_chain(f)) {
       f.reason = "loop disagrees with the odometry chain" + f.reason;
     } else {

@@ -72,6 +72,10 @@ struct SlamConfig {
   // factor is the sensors' (a FOG heading), a loop candidate whose heading differs from the
   // odometry chain's by more than this is not a candidate either. 0 = off.
   double nssm_max_heading_diff_gyro_deg = 0.5;
+  // Addition (docs/SLAM.md "Loops at the FOG's heading"): when the DR factor is the
+  // sensors' (a FOG heading), a loop candidate's ICP solves for translation only, at the
+  // graph's relative heading, and the loop factor carries no heading information of its own.
+  bool nssm_fixed_heading_gyro = false;
   double nssm_max_rmse_m = 1.0;       // an ICP fit worse than this is not a candidate (PCM judges the rest)
   int pcm_queue = 5;
   double pcm_threshold = 11.34;       // chi-square 0.99, 3 dof (squared Mahalanobis)
@@ -229,7 +233,10 @@ class KeyframeSlam {
   void accept_loop(size_t factor, size_t clique_size);   // and count the errors it shares
   UncertainSE2 odometry_between(int i, int j) const;  // current estimate + chain covariance
   // The mix of a scan-match factor with these sigmas, from its fit (identity when off).
-  void shape(Factor& f, const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target) const;
+  // translation_only: the fit did not solve for the heading (a loop at the FOG's heading):
+  // its heading carries no information and only the translation block is analysed.
+  void shape(Factor& f, const std::vector<Eigen::Vector2d>& source, const std::vector<Eigen::Vector2d>& target,
+             bool translation_only = false) const;
   // Points of cloud_V (keyframe at T_W_V) inside the sonar view of any of the keyframes `ids`.
   std::vector<Eigen::Vector2d> seen_from(const std::vector<Eigen::Vector2d>& cloud_V, const SE2& T_W_V,
                                          const std::vector<int>& ids) const;

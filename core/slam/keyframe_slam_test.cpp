@@ -1,6 +1,7 @@
 #include "core/slam/keyframe_slam.hpp"
 
 #include <catch2/catch.hpp>
+#include <memory>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -364,6 +365,41 @@ TEST_CASE("With a FOG's DR factor, loops turned from the odometry chain by more 
   CHECK(fly(0.5, 0.0002) >= 1);
   CHECK(fly(1e-4, 0.0002) == 0);
   CHECK(fly(1e-4, std::nullopt) >= 1);
+}
+
+TEST_CASE("With a FOG's DR factor and nssm_fixed_heading_gyro, loops are translation-only fits at the chain's heading", "[unit]") {
+  // The two laps of the test above: every loop candidate's measured heading is the graph's
+  // relative heading at the time and its heading carries no information (weight 0 in the
+  // residual mix); without a gyro heading the option does nothing.
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
+  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
+  auto fly = [&](std::optional<double> heading_sigma) {
+    SlamConfig config;
+    config.nssm_fixed_heading_gyro = true;
+    auto slam = std::make_unique<KeyframeSlam>(config);
+    for (size_t i = 0; i < truth.size(); ++i)
+      slam->add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
+                         i == 0 ? KeyframeSlam::DrSigma{} : KeyframeSlam::DrSigma{0.015, heading_sigma});
+    CHECK(graph_connected(*slam));
+    return slam;
+  };
+  const auto fog = fly(0.0002);
+  size_t fitted = 0;
+  for (const auto& f : fog->factors()) {
+    if (f.kind != FactorKind::kLoopClosure || !f.accepted) continue;
+    ++fitted;
+    CHECK(f.weakened >= 1);
+    CHECK(f.mix.row(2).isZero(0.0));
+    CHECK(f.mix.col(2).isZero(0.0));
+    CHECK(f.information()(2, 2) == 0.0);
+  }
+  CHECK(fitted >= 1);
+  CHECK(fog->accepted_loop_closures() >= 1);
+  const auto ahrs = fly(std::nullopt);
+  for (const auto& f : ahrs->factors())
+    if (f.kind == FactorKind::kLoopClosure && f.accepted) CHECK_FALSE(f.mix.row(2).isZero(0.0));
+  CHECK(ahrs->accepted_loop_closures() >= 1);
 }
 
 TEST_CASE("Loops that share an error: each one's share is the sum of exp(-d / length) over the accepted loops", "[unit]") {

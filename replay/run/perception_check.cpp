@@ -98,6 +98,14 @@ json measured_json(const MeasuredProfile& r) {
                                   {"mae", num(b.figures.mae)},
                                   {"rmse", num(b.figures.rmse)}});
                return bands;
+             }()},
+            {"association_bound", [&f] {
+               const mapping::AssociationBound b = mapping::association_bound(f);
+               return json{{"mae_fused", num(b.mae_fused)},
+                           {"mae_best_candidate_of_bin", num(b.mae_best_candidate)},
+                           {"mae_best_elevation_in_overlap", num(b.mae_best_elevation)},
+                           {"single_candidate_points", b.single_candidate_points},
+                           {"single_candidate_mae", num(b.single_candidate_mae)}};
              }()}}}};
 }
 

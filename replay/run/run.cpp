@@ -315,12 +315,17 @@ Result<RunOutput> run_source_unguarded(hal::EventSource& source, const std::map<
   }
   r.runtime = r.pipeline->runtime();
   std::vector<mapping::StampedPosition> dr, sl;
+  std::vector<mapping::StampedPose> dr_pose, sl_pose;
   for (const auto& k : r.pipeline->slam().keyframes()) {
     dr.push_back({k.stamp, k.T_W_V_dr.translation()});
     sl.push_back({k.stamp, k.T_W_V_slam.translation()});
+    dr_pose.push_back({k.stamp, k.T_W_V_dr});
+    sl_pose.push_back({k.stamp, k.T_W_V_slam});
   }
   r.ate_dr_m = mapping::absolute_trajectory_error(dr, r.truth);
   r.ate_slam_m = mapping::absolute_trajectory_error(sl, r.truth);
+  r.heading_dr = mapping::heading_error(dr_pose, r.truth);
+  r.heading_slam = mapping::heading_error(sl_pose, r.truth);
   r.mesh = mesh;
   std::optional<mapping::MeshDistance> md;
   if (mesh) md.emplace(*mesh);

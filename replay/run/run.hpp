@@ -166,6 +166,8 @@ struct RunOutput {
   // view read it. Null when the run kept the whole truth in `truth`.
   std::shared_ptr<const TruthSpill> truth_all;
   std::optional<double> ate_dr_m, ate_slam_m;
+  // Keyframe heading against truth (issue 33), DR's and SLAM's; nullopt without truth.
+  std::optional<mapping::HeadingErrorStats> heading_dr, heading_slam;
   std::vector<SystemOutput> systems;
   std::vector<std::pair<std::string, mapping::RuntimeStats>> runtime;
   std::optional<TriangleMesh> mesh;

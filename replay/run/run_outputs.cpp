@@ -31,6 +31,11 @@ nlohmann::json runtime_json(const std::vector<std::pair<std::string, mapping::Ru
 }
 
 nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+// Keyframe heading against truth (issue 33): degrees, or null without truth.
+nlohmann::json heading_json(const std::optional<mapping::HeadingErrorStats>& h) {
+  if (!h) return nullptr;
+  return {{"keyframes", h->count}, {"rms_deg", h->rms_deg}, {"mean_deg", h->mean_deg}, {"max_abs_deg", h->max_abs_deg}};
+}
 
 Status write_json(const std::filesystem::path& path, const nlohmann::json& j) {
   std::ofstream f(path, std::ios::trunc);
@@ -109,6 +114,8 @@ nlohmann::json system_metrics_json(const RunOutput& run, const SystemOutput& s) 
            s.true_pose_accuracy ? nlohmann::json(s.true_pose_accuracy->rmse_m) : nlohmann::json(nullptr)},
           {"ate_dr_m", opt_json(run.ate_dr_m)},
           {"ate_slam_m", opt_json(run.ate_slam_m)},
+          {"heading_error_dr", heading_json(run.heading_dr)},
+          {"heading_error_slam", heading_json(run.heading_slam)},
           {"runtime", runtime_json([&] {
              auto rt = s.runtime;
              for (const auto& p : run.runtime)
@@ -197,6 +204,8 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   summary["runtime"] = runtime_json(run.runtime);
   summary["ate_dr_m"] = opt_json(run.ate_dr_m);
   summary["ate_slam_m"] = opt_json(run.ate_slam_m);
+  summary["heading_error_dr"] = heading_json(run.heading_dr);
+  summary["heading_error_slam"] = heading_json(run.heading_slam);
   summary["slam_factors"] = slam_factors_json(run.pipeline->slam());
   if (run.pipeline->slam().config().heading_drift_sigma_dps > 0.0) {
     summary["slam_heading_drift_dps"] = run.pipeline->slam().heading_drift_rad_s() * 180.0 / std::numbers::pi;

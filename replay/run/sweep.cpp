@@ -134,6 +134,8 @@ Result<CellResult> run_cell(const PreparedSweep& prepared, const RunOptions& opt
   c.keyframes = r->counts.keyframes;
   c.ate_dr_m = r->ate_dr_m;
   c.ate_slam_m = r->ate_slam_m;
+  if (r->heading_dr) c.heading_rms_dr_deg = r->heading_dr->rms_deg;
+  if (r->heading_slam) c.heading_rms_slam_deg = r->heading_slam->rms_deg;
   for (const auto& [name, s] : r->runtime)
     if (name == "slam_update") c.slam_runtime = s;
   for (const auto& s : r->systems) {
@@ -304,7 +306,9 @@ nlohmann::json cell_result_to_json(const CellResult& c) {
   nlohmann::json j = {{"distance_m", c.cell.distance_m}, {"rotation_deg", c.cell.rotation_deg},
                       {"keyframes", c.keyframes},        {"ate_dr_m", opt(c.ate_dr_m)},
                       {"ate_slam_m", opt(c.ate_slam_m)}, {"slam_runtime", runtime_stats_to_json(c.slam_runtime)},
-                      {"digest", c.digest},              {"wall_s", c.wall_s}};
+                      {"digest", c.digest},              {"wall_s", c.wall_s},
+                      {"heading_rms_dr_deg", opt(c.heading_rms_dr_deg)},
+                      {"heading_rms_slam_deg", opt(c.heading_rms_slam_deg)}};
   j["systems"] = nlohmann::json::array();
   for (const auto& s : c.systems)
     j["systems"].push_back({{"system", s.system},
@@ -327,6 +331,11 @@ Result<CellResult> cell_result_from_json(const nlohmann::json& j) {
     c.keyframes = j.at("keyframes").get<int64_t>();
     if (!j.at("ate_dr_m").is_null()) c.ate_dr_m = j.at("ate_dr_m").get<double>();
     if (!j.at("ate_slam_m").is_null()) c.ate_slam_m = j.at("ate_slam_m").get<double>();
+    // Absent in results before 2026-12-07.
+    if (j.contains("heading_rms_dr_deg") && !j.at("heading_rms_dr_deg").is_null())
+      c.heading_rms_dr_deg = j.at("heading_rms_dr_deg").get<double>();
+    if (j.contains("heading_rms_slam_deg") && !j.at("heading_rms_slam_deg").is_null())
+      c.heading_rms_slam_deg = j.at("heading_rms_slam_deg").get<double>();
     c.slam_runtime = runtime_stats_from_json(j.value("slam_runtime", nlohmann::json()));
     c.digest = j.at("digest").get<std::string>();
     c.wall_s = j.value("wall_s", 0.0);

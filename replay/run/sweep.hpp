@@ -71,6 +71,8 @@ struct CellResult {
   GridCell cell;
   int64_t keyframes = 0;
   std::optional<double> ate_dr_m, ate_slam_m;
+  // RMS keyframe heading error against truth, degrees (issue 33); nullopt without truth.
+  std::optional<double> heading_rms_dr_deg, heading_rms_slam_deg;
   mapping::RuntimeStats slam_runtime;
   std::vector<CellSystem> systems;
   std::string digest;

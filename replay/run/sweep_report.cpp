@@ -149,6 +149,15 @@ std::string sweep_tables_markdown(const SweepReport& r) {
     md << fmt("%.0f", c.cell.distance_m) << "m/" << fmt("%.0f", c.cell.rotation_deg) << "° "
        << (c.ate_dr_m ? fmt("%.2f", *c.ate_dr_m) : "n/a") << "/" << (c.ate_slam_m ? fmt("%.2f", *c.ate_slam_m) : "n/a")
        << (&c == &r.cells.back() ? "\n" : "; ");
+  bool any_heading = false;
+  for (const auto& c : r.cells) any_heading = any_heading || c.heading_rms_slam_deg.has_value();
+  if (any_heading) {
+    md << "\nKeyframe heading error per cell (°, RMS against truth), DR / SLAM: ";
+    for (const auto& c : r.cells)
+      md << fmt("%.0f", c.cell.distance_m) << "m/" << fmt("%.0f", c.cell.rotation_deg) << "° "
+         << opt_fmt("%.2f", c.heading_rms_dr_deg) << "/" << opt_fmt("%.2f", c.heading_rms_slam_deg)
+         << (&c == &r.cells.back() ? "\n" : "; ");
+  }
   md << "\nMission: " << fmt("%.0f", r.stream_s) << " s of sensor data.\n";
   return md.str();
 }
@@ -182,7 +191,7 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
   j["cells"] = nlohmann::json::array();
   std::ostringstream csv;
   csv << "system,distance_m,rotation_deg,coverage_voxels,mae_m,rmse_m,ate_dr_m,ate_slam_m,keyframes,true_pose_mae_m,"
-         "true_pose_rmse_m\n";
+         "true_pose_rmse_m,heading_rms_dr_deg,heading_rms_slam_deg\n";
   auto num = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
   for (const auto& c : r.cells)
     for (const auto& s : c.systems) {
@@ -193,12 +202,16 @@ Status write_sweep_outputs(const SweepReport& r, const std::string& out_dir) {
                             {"true_pose_mae_m", s.true_pose_count ? nlohmann::json(s.true_pose_mae_m) : nlohmann::json(nullptr)},
                             {"true_pose_rmse_m", s.true_pose_count ? nlohmann::json(s.true_pose_rmse_m) : nlohmann::json(nullptr)},
                             {"ate_dr_m", num(c.ate_dr_m)}, {"ate_slam_m", num(c.ate_slam_m)},
+                            {"heading_rms_dr_deg", num(c.heading_rms_dr_deg)},
+                            {"heading_rms_slam_deg", num(c.heading_rms_slam_deg)},
                             {"keyframes", c.keyframes}, {"digest", c.digest}});
       csv << s.system << "," << c.cell.distance_m << "," << c.cell.rotation_deg << "," << s.coverage_voxels << ","
           << fmt("%.6f", s.mae_m) << "," << fmt("%.6f", s.rmse_m) << ","
           << (c.ate_dr_m ? fmt("%.6f", *c.ate_dr_m) : "") << "," << (c.ate_slam_m ? fmt("%.6f", *c.ate_slam_m) : "")
           << "," << c.keyframes << "," << (s.true_pose_count ? fmt("%.6f", s.true_pose_mae_m) : "") << ","
-          << (s.true_pose_count ? fmt("%.6f", s.true_pose_rmse_m) : "") << "\n";
+          << (s.true_pose_count ? fmt("%.6f", s.true_pose_rmse_m) : "") << ","
+          << (c.heading_rms_dr_deg ? fmt("%.6f", *c.heading_rms_dr_deg) : "") << ","
+          << (c.heading_rms_slam_deg ? fmt("%.6f", *c.heading_rms_slam_deg) : "") << "\n";
     }
   // Timings live apart (runtime.json): grid.json is the same bytes on every machine.
   auto stats = [](const mapping::RuntimeStats& s) {

@@ -77,6 +77,8 @@ TEST_CASE("a cell's result survives JSON exactly (doubles bit for bit)", "[sweep
     });
     if (*rc::gen::arbitrary<bool>()) c.ate_dr_m = *any_double;
     if (*rc::gen::arbitrary<bool>()) c.ate_slam_m = *any_double;
+    if (*rc::gen::arbitrary<bool>()) c.heading_rms_dr_deg = *any_double;
+    if (*rc::gen::arbitrary<bool>()) c.heading_rms_slam_deg = *any_double;
     c.digest = *rc::gen::container<std::string>(rc::gen::elementOf(std::string("0123456789abcdef")));
     c.slam_runtime.count = 3;
     c.slam_runtime.sum_ms = *any_double;
@@ -101,6 +103,10 @@ TEST_CASE("a cell's result survives JSON exactly (doubles bit for bit)", "[sweep
     RC_ASSERT(back->ate_dr_m.has_value() == c.ate_dr_m.has_value());
     if (c.ate_dr_m) RC_ASSERT(same_bits(*back->ate_dr_m, *c.ate_dr_m));
     if (c.ate_slam_m) RC_ASSERT(same_bits(*back->ate_slam_m, *c.ate_slam_m));
+    RC_ASSERT(back->heading_rms_dr_deg.has_value() == c.heading_rms_dr_deg.has_value());
+    RC_ASSERT(back->heading_rms_slam_deg.has_value() == c.heading_rms_slam_deg.has_value());
+    if (c.heading_rms_dr_deg) RC_ASSERT(same_bits(*back->heading_rms_dr_deg, *c.heading_rms_dr_deg));
+    if (c.heading_rms_slam_deg) RC_ASSERT(same_bits(*back->heading_rms_slam_deg, *c.heading_rms_slam_deg));
     RC_ASSERT(back->digest == c.digest);
     RC_ASSERT(same_bits(back->slam_runtime.sum_ms, c.slam_runtime.sum_ms));
     RC_ASSERT(back->systems.size() == c.systems.size());

@@ -2,7 +2,8 @@
 # `orthosonar perception-check` per image profile, beside a real Oculus ping (docs/PERCEPTION.md):
 #  1. both profiles (field, clean) and the real M1200d ping are in the JSON; the ping has 256
 #     beams and mean intensity 55.86 (testdata/oculus/README.md); the clean profile's water
-#     p99 is below the field's on the vertical sonar and its h water p50 above the field's; the JSON is the same bytes on a second run;
+#     p99 is below the field's on the vertical sonar and its h water p50 above the field's; the
+#     association bound is at most the fused MAE; the JSON is the same bytes on a second run;
 #  2. --fixture on a labelled fixture measures it as recorded (its profile, embedded scene);
 #     --cloud writes its true-pose fused points: as many as the JSON counts, their mean
 #     distance_m the JSON's MAE; an unwritable --cloud path exits 2 naming it;
@@ -48,6 +49,14 @@ test "$(jsonq a.json '"distance_to_mesh_m" in d["profiles"][0]["fusion"] and "wi
   fail "fusion figures missing"
 test "$(jsonq a.json '"precision_structure" in d["profiles"][0]["mounts"]["h"]["detections"]')" = true ||
   fail "structure precision missing"
+# The association bound (issue 34): choosing among the bin's candidates or elevations can
+# only lower a point's distance, so the bounds are at most the fused MAE, in that order.
+# (The aircraft: the short harbor run above fuses no point.)
+"$exe" perception-check --scene aircraft --resolution reduced --duration 6 --every 2 --profile field --json ab.json >ab.txt 2>ab.err ||
+  fail "aircraft perception-check exited $?: $(cat ab.err)"
+test "$(jsonq ab.json "(lambda f: f['points'] > 50 and f['association_bound']['single_candidate_points'] <= f['points'] and f['association_bound']['mae_best_elevation_in_overlap'] <= f['association_bound']['mae_best_candidate_of_bin'] <= f['association_bound']['mae_fused'] == f['distance_to_mesh_m']['mae'])(d['profiles'][0]['fusion'])")" = true ||
+  fail "association bound: $(jsonq ab.json "d['profiles'][0]['fusion']['association_bound']"), points $(jsonq ab.json "d['profiles'][0]['fusion']['points']")"
+grep -q "association bound: MAE as fused" ab.txt || fail "no association bound line: $(cat ab.txt)"
 "$exe" perception-check "${short[@]}" --real-ping "$ping" --json b.json >/dev/null 2>&1 || fail "second run failed"
 cmp -s a.json b.json || fail "JSON differs between two identical runs"
 
