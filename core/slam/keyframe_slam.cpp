@@ -314,7 +314,12 @@ void KeyframeSlam::loop_closure(int id) {
   }
   const int anchor = near.empty() ? -1 : near.front().second;
   std::vector<int> ids;
-  for (const auto& [d, k] : near) ids.push_back(k);
+  for (const auto& [d, k] : near) {
+    if (config_.nssm_target_same_pass && anchor >= 0 &&
+        std::abs(path_m_[static_cast<size_t>(k)] - path_m_[static_cast<size_t>(anchor)]) > config_.nssm_min_travel_m)
+      continue;
+    ids.push_back(k);
+  }
   std::sort(ids.begin(), ids.end());
   if (anchor < 0) return;
   // Field-of-view gating: only target points the new keyframe's sonar could have seen.
@@ -330,6 +335,8 @@ void KeyframeSlam::loop_closure(int id) {
   const IcpResult icp = icp_2d(source, target, T_anchor_new, icp_config);
   Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source,
            dr_from_sensors_ ? config_.sigma_loop_gyro : config_.sigma_loop, false, ""};
+  for (int k : ids)
+    f.target_span_m = std::max(f.target_span_m, std::abs(path_m_[static_cast<size_t>(k)] - path_m_[static_cast<size_t>(anchor)]));
   if (!icp.converged) {
     f.reason = "icp not converged";
   } else if (icp.rmse > config_.nssm_max_rmse_m) {

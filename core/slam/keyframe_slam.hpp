@@ -76,6 +76,11 @@ struct SlamConfig {
   // sensors' (a FOG heading), a loop candidate's ICP solves for translation only, at the
   // graph's relative heading, and the loop factor carries no heading information of its own.
   bool nssm_fixed_heading_gyro = false;
+  // Addition (docs/SLAM.md "Loop targets from one pass"): a loop's target aggregates only
+  // the candidate keyframes within nssm_min_travel_m of the anchor along the DR path (the
+  // anchor's own pass), not keyframes of other passes whose relative poses carry the drift
+  // between them.
+  bool nssm_target_same_pass = false;
   double nssm_max_rmse_m = 1.0;       // an ICP fit worse than this is not a candidate (PCM judges the rest)
   int pcm_queue = 5;
   double pcm_threshold = 11.34;       // chi-square 0.99, 3 dof (squared Mahalanobis)
@@ -181,6 +186,9 @@ struct Factor {
   // Accepted loop closures: how many accepted loops share this one's error (SlamConfig::
   // loop_correlation_m; 1 = none). The graph divides its information by this.
   double shared = 1.0;
+  // Loop closures: the largest distance along the DR path between the anchor and a keyframe
+  // aggregated into the target (0: the anchor alone; slam.nssm_target_same_pass bounds it).
+  double target_span_m = 0.0;
   Eigen::Matrix3d information() const;  // diag(1/sigma) mixᵀ mix diag(1/sigma)
   Eigen::Matrix3d covariance() const;   // its inverse (unobserved directions: 1e6 × sigma²)
 };

@@ -402,6 +402,40 @@ TEST_CASE("With a FOG's DR factor and nssm_fixed_heading_gyro, loops are transla
   CHECK(ahrs->accepted_loop_closures() >= 1);
 }
 
+TEST_CASE("nssm_target_same_pass: a loop's target is the anchor's own pass along the DR path", "[unit]") {
+  // Three laps of the basin: a third-lap loop's nearest candidates come from both earlier
+  // laps. By default some loop's target spans keyframes of different laps; with the option
+  // every target stays within nssm_min_travel_m of its anchor along the path, and loops
+  // still close.
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 3);
+  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
+  auto fly = [&](bool same_pass) {
+    SlamConfig config;
+    config.nssm_target_same_pass = same_pass;
+    auto slam = std::make_unique<KeyframeSlam>(config);
+    for (size_t i = 0; i < truth.size(); ++i)
+      slam->add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i));
+    CHECK(graph_connected(*slam));
+    return slam;
+  };
+  const SlamConfig defaults;
+  double widest_default = 0.0;
+  const auto all_passes = fly(false);
+  for (const auto& f : all_passes->factors())
+    if (f.kind == FactorKind::kLoopClosure) widest_default = std::max(widest_default, f.target_span_m);
+  CHECK(widest_default > defaults.nssm_min_travel_m);
+  const auto one_pass = fly(true);
+  size_t loops = 0;
+  for (const auto& f : one_pass->factors())
+    if (f.kind == FactorKind::kLoopClosure) {
+      ++loops;
+      CHECK(f.target_span_m <= defaults.nssm_min_travel_m);
+    }
+  CHECK(loops >= 1);
+  CHECK(one_pass->accepted_loop_closures() >= 1);
+}
+
 TEST_CASE("Loops that share an error: each one's share is the sum of exp(-d / length) over the accepted loops", "[unit]") {
   const auto world = make_basin_world(5);
   const auto truth = loop_route(30.0, 20.0, 3.0, 2);
