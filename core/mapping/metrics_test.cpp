@@ -133,7 +133,7 @@ TEST_CASE("keyframe heading error against truth: wrapped, signed, pitch and roll
   truth[1].stamp = Time::from_s(2);
   truth[1].q_W_V = Quat(Eigen::AngleAxisd(190.0 * kPiMetricsTest / 180.0, Vec3::UnitZ()));
   auto est_at = [](double s, double yaw_deg, double pitch_deg) {
-    return StampedPose{Time::from_s(s), se3_from_xyz_rpy(0, 0, 0, 0.0, pitch_deg * kPiMetricsTest / 180.0, yaw_deg * kPiMetricsTest / 180.0)};
+    return StampedPose{Time::from_seconds(s), se3_from_xyz_rpy(0, 0, 0, 0.0, pitch_deg * kPiMetricsTest / 180.0, yaw_deg * kPiMetricsTest / 180.0)};
   };
   // At 1 s the truth is at 180 deg: an estimate of -179 deg is +1 deg off, one of 177 deg
   // -3 deg; one pitched by 5 deg at the truth's yaw is 0 off; one after the truth span is
