@@ -43,23 +43,16 @@ double sorted_quantile(std::vector<double> v, double q) {
 
 AssociationBound association_bound(const FusionTally& f) {
   AssociationBound b;
-  const double nan = std::nan("");
-  auto mean = [nan](const std::vector<double>& v) {
-    if (v.empty()) return nan;
-    double s = 0;
-    for (double x : v) s += x;
-    return s / static_cast<double>(v.size());
-  };
-  b.mae_fused = mean(f.err);
-  b.mae_best_candidate = mean(f.err_best_candidate);
-  b.mae_best_elevation = mean(f.err_best_elevation);
+  b.mae_fused = fusion_figures(f.err).mae;
+  b.mae_best_candidate = fusion_figures(f.err_best_candidate).mae;
+  b.mae_best_elevation = fusion_figures(f.err_best_elevation).mae;
   double s = 0;
   for (size_t i = 0; i < f.err.size() && i < f.bin_candidates_v.size(); ++i)
     if (f.bin_candidates_v[i] == 1) {
       ++b.single_candidate_points;
       s += f.err[i];
     }
-  b.single_candidate_mae = b.single_candidate_points ? s / static_cast<double>(b.single_candidate_points) : nan;
+  b.single_candidate_mae = b.single_candidate_points ? s / static_cast<double>(b.single_candidate_points) : std::nan("");
   return b;
 }
 
@@ -161,6 +154,7 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
     f.culled += r.culled_low_confidence;
     tally_image(h, lh->second, r.detections_h, overlap_rad_, out_.h);
     tally_image(v, lv->second, r.detections_v, overlap_rad_, out_.v);
+    const int bound_steps = static_cast<int>(std::floor(overlap_rad_ / kBoundStepRad));  // the elevation grid's half width
     if (const auto T_W_V = truth_.at(h.stamp))
       for (const perception::FusedPoint& p : r.points) {
         const Eigen::Vector3d p_W = *T_W_V * p.p_V.cast<double>();
@@ -176,8 +170,7 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
         for (uint32_t k = 0; k < p.bin_count && p.bin_first + k < r.bin_elevations_rad.size(); ++k)
           best_c = std::min(best_c, dist_at(r.bin_elevations_rad[p.bin_first + k]));
         double best_e = near.distance;
-        const int steps = static_cast<int>(std::floor(overlap_rad_ / kBoundStepRad));
-        for (int k = -steps; k <= steps; ++k) best_e = std::min(best_e, dist_at(k * kBoundStepRad));
+        for (int k = -bound_steps; k <= bound_steps; ++k) best_e = std::min(best_e, dist_at(k * kBoundStepRad));
         f.err_best_candidate.push_back(best_c);
         f.err_best_elevation.push_back(best_e);
         f.bin_candidates_v.push_back(p.bin_count);

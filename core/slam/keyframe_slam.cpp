@@ -20,6 +20,25 @@ Eigen::Matrix3d covariance(const Eigen::Vector3d& sigma) {
 // dᵀ cov⁻¹ d: the gates of scan matches against DR and of loops against the chain.
 double squared_mahalanobis(const Eigen::Vector3d& d, const Eigen::Matrix3d& cov) { return d.dot(cov.ldlt().solve(d)); }
 
+// The directions a sigma-whitened fit Hessian Hu (u = e / sigma: nominal information the
+// identity) observes weakly: its eigenvectors V (columns) and weights w = λ / (ratio λmax)
+// clamped to [0, 1]. Returns how many weights are below 1, or -1 when Hu observes nothing
+// (V and w then untouched).
+template <int N>
+int weak_directions(const Eigen::Matrix<double, N, N>& Hu, double ratio, Eigen::Matrix<double, N, N>& V,
+                    Eigen::Matrix<double, N, 1>& w) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(Hu);
+  const Eigen::Matrix<double, N, 1> lambda = es.eigenvalues();  // ascending
+  if (!(lambda(N - 1) > 0.0)) return -1;
+  int weakened = 0;
+  for (int k = 0; k < N; ++k) {
+    w(k) = std::clamp(lambda(k) / (ratio * lambda(N - 1)), 0.0, 1.0);
+    if (w(k) < 1.0) ++weakened;
+  }
+  V = es.eigenvectors();
+  return weakened;
+}
+
 }  // namespace
 
 Eigen::Matrix3d Factor::information() const {
@@ -38,7 +57,7 @@ void KeyframeSlam::shape(Factor& f, const std::vector<Eigen::Vector2d>& source,
                          const std::vector<Eigen::Vector2d>& target, bool translation_only) const {
   if (translation_only) {
     // The heading row of the residual is dropped (weight 0: covariance() then reads it as
-    // unobserved); the translation block is shaped as below.
+    // unobserved); the translation block is shaped as the full fit is below.
     Eigen::Matrix2d V = Eigen::Matrix2d::Identity();
     Eigen::Vector2d w = Eigen::Vector2d::Ones();
     int weakened = 0;
@@ -46,15 +65,7 @@ void KeyframeSlam::shape(Factor& f, const std::vector<Eigen::Vector2d>& source,
       const FitInformation fit = icp_fit_information(source, target, f.T_from_to, config_.fit_information);
       const Eigen::Matrix2d S = f.sigma.head<2>().asDiagonal();
       const Eigen::Matrix2d Hu = S * fit.hessian.topLeftCorner<2, 2>() * S;
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(Hu);
-      const Eigen::Vector2d lambda = es.eigenvalues();
-      if (lambda(1) > 0.0) {
-        V = es.eigenvectors();
-        for (int k = 0; k < 2; ++k) {
-          w(k) = std::clamp(lambda(k) / (config_.degeneracy_ratio * lambda(1)), 0.0, 1.0);
-          if (w(k) < 1.0) ++weakened;
-        }
-      }
+      weakened = std::max(0, weak_directions<2>(Hu, config_.degeneracy_ratio, V, w));
     }
     f.mix.setZero();
     f.mix.topLeftCorner<2, 2>() = w.cwiseSqrt().asDiagonal() * V.transpose();
@@ -69,17 +80,11 @@ void KeyframeSlam::shape(Factor& f, const std::vector<Eigen::Vector2d>& source,
   // In sigma-whitened coordinates u = e / sigma the nominal information is the identity.
   const Eigen::Matrix3d S = f.sigma.asDiagonal();
   const Eigen::Matrix3d Hu = S * fit.hessian * S;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Hu);
-  const Eigen::Vector3d lambda = es.eigenvalues();  // ascending
-  if (!(lambda(2) > 0.0)) return;
+  Eigen::Matrix3d V;
   Eigen::Vector3d w;
-  int weakened = 0;
-  for (int k = 0; k < 3; ++k) {
-    w(k) = std::clamp(lambda(k) / (config_.degeneracy_ratio * lambda(2)), 0.0, 1.0);
-    if (w(k) < 1.0) ++weakened;
-  }
-  if (weakened == 0) return;  // fully observed: the diagonal sigmas as they are
-  f.mix = w.cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
+  const int weakened = weak_directions<3>(Hu, config_.degeneracy_ratio, V, w);
+  if (weakened <= 0) return;  // nothing observed, or fully observed: the diagonal sigmas as they are
+  f.mix = w.cwiseSqrt().asDiagonal() * V.transpose();
   f.weakened = weakened;
   f.reason += " (" + std::to_string(weakened) + " weak direction" + (weakened > 1 ? "s)" : ")");
 }

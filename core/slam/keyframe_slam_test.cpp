@@ -1,7 +1,6 @@
 #include "core/slam/keyframe_slam.hpp"
 
 #include <catch2/catch.hpp>
-#include <memory>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -29,6 +28,21 @@ bool graph_connected(const KeyframeSlam& slam) {
     if (!found) return false;
   }
   return true;
+}
+
+// Laps of the basin (30 x 20 m route, 3 m keyframes) with DR drifting 0.003 rad per
+// keyframe; from keyframe 1 on each DR factor gets `sigma` (empty: sigma_odometry). Checks
+// that the graph stays connected.
+KeyframeSlam fly_basin(const SlamConfig& config, int laps, KeyframeSlam::DrSigma sigma = {}) {
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, laps);
+  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
+  KeyframeSlam slam(config);
+  for (size_t i = 0; i < truth.size(); ++i)
+    slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
+                      i == 0 ? KeyframeSlam::DrSigma{} : sigma);
+  CHECK(graph_connected(slam));
+  return slam;
 }
 
 }  // namespace
@@ -349,18 +363,10 @@ TEST_CASE("With a FOG's DR factor, loops turned from the odometry chain by more 
   // Two laps of the basin with FOG-grade DR: the loop matches are within a tenth of a degree
   // of the chain and pass the 0.5 deg gate; a gate of 1e-4 deg refuses every one, and
   // without a gyro heading (the AHRS graph) the gate does not apply.
-  const auto world = make_basin_world(5);
-  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
-  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
-  auto fly = [&](double gate_deg, std::optional<double> heading_sigma) {
+  auto fly = [](double gate_deg, std::optional<double> heading_sigma) {
     SlamConfig config;
     config.nssm_max_heading_diff_gyro_deg = gate_deg;
-    KeyframeSlam slam(config);
-    for (size_t i = 0; i < truth.size(); ++i)
-      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
-                        i == 0 ? KeyframeSlam::DrSigma{} : KeyframeSlam::DrSigma{0.015, heading_sigma});
-    CHECK(graph_connected(slam));
-    return slam.accepted_loop_closures();
+    return fly_basin(config, 2, {0.015, heading_sigma}).accepted_loop_closures();
   };
   CHECK(fly(0.5, 0.0002) >= 1);
   CHECK(fly(1e-4, 0.0002) == 0);
@@ -371,22 +377,11 @@ TEST_CASE("With a FOG's DR factor and nssm_fixed_heading_gyro, loops are transla
   // The two laps of the test above: every loop candidate's measured heading is the graph's
   // relative heading at the time and its heading carries no information (weight 0 in the
   // residual mix); without a gyro heading the option does nothing.
-  const auto world = make_basin_world(5);
-  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
-  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
-  auto fly = [&](std::optional<double> heading_sigma) {
-    SlamConfig config;
-    config.nssm_fixed_heading_gyro = true;
-    auto slam = std::make_unique<KeyframeSlam>(config);
-    for (size_t i = 0; i < truth.size(); ++i)
-      slam->add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
-                         i == 0 ? KeyframeSlam::DrSigma{} : KeyframeSlam::DrSigma{0.015, heading_sigma});
-    CHECK(graph_connected(*slam));
-    return slam;
-  };
-  const auto fog = fly(0.0002);
+  SlamConfig config;
+  config.nssm_fixed_heading_gyro = true;
+  const KeyframeSlam fog = fly_basin(config, 2, {0.015, 0.0002});
   size_t fitted = 0;
-  for (const auto& f : fog->factors()) {
+  for (const auto& f : fog.factors()) {
     if (f.kind != FactorKind::kLoopClosure || !f.accepted) continue;
     ++fitted;
     CHECK(f.weakened >= 1);
@@ -395,11 +390,11 @@ TEST_CASE("With a FOG's DR factor and nssm_fixed_heading_gyro, loops are transla
     CHECK(f.information()(2, 2) == 0.0);
   }
   CHECK(fitted >= 1);
-  CHECK(fog->accepted_loop_closures() >= 1);
-  const auto ahrs = fly(std::nullopt);
-  for (const auto& f : ahrs->factors())
+  CHECK(fog.accepted_loop_closures() >= 1);
+  const KeyframeSlam ahrs = fly_basin(config, 2, {0.015, std::nullopt});
+  for (const auto& f : ahrs.factors())
     if (f.kind == FactorKind::kLoopClosure && f.accepted) CHECK_FALSE(f.mix.row(2).isZero(0.0));
-  CHECK(ahrs->accepted_loop_closures() >= 1);
+  CHECK(ahrs.accepted_loop_closures() >= 1);
 }
 
 TEST_CASE("nssm_target_same_pass: a loop's target is the anchor's own pass along the DR path", "[unit]") {
@@ -407,33 +402,23 @@ TEST_CASE("nssm_target_same_pass: a loop's target is the anchor's own pass along
   // laps. By default some loop's target spans keyframes of different laps; with the option
   // every target stays within nssm_min_travel_m of its anchor along the path, and loops
   // still close.
-  const auto world = make_basin_world(5);
-  const auto truth = loop_route(30.0, 20.0, 3.0, 3);
-  const auto dr = drifting_odometry(truth, 0.003, 0.0, 0.0, 9);
-  auto fly = [&](bool same_pass) {
-    SlamConfig config;
-    config.nssm_target_same_pass = same_pass;
-    auto slam = std::make_unique<KeyframeSlam>(config);
-    for (size_t i = 0; i < truth.size(); ++i)
-      slam->add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i));
-    CHECK(graph_connected(*slam));
-    return slam;
-  };
   const SlamConfig defaults;
   double widest_default = 0.0;
-  const auto all_passes = fly(false);
-  for (const auto& f : all_passes->factors())
+  const KeyframeSlam all_passes = fly_basin(defaults, 3);
+  for (const auto& f : all_passes.factors())
     if (f.kind == FactorKind::kLoopClosure) widest_default = std::max(widest_default, f.target_span_m);
   CHECK(widest_default > defaults.nssm_min_travel_m);
-  const auto one_pass = fly(true);
+  SlamConfig same_pass;
+  same_pass.nssm_target_same_pass = true;
+  const KeyframeSlam one_pass = fly_basin(same_pass, 3);
   size_t loops = 0;
-  for (const auto& f : one_pass->factors())
+  for (const auto& f : one_pass.factors())
     if (f.kind == FactorKind::kLoopClosure) {
       ++loops;
       CHECK(f.target_span_m <= defaults.nssm_min_travel_m);
     }
   CHECK(loops >= 1);
-  CHECK(one_pass->accepted_loop_closures() >= 1);
+  CHECK(one_pass.accepted_loop_closures() >= 1);
 }
 
 TEST_CASE("Loops that share an error: each one's share is the sum of exp(-d / length) over the accepted loops", "[unit]") {

@@ -332,10 +332,9 @@ Result<CellResult> cell_result_from_json(const nlohmann::json& j) {
     if (!j.at("ate_dr_m").is_null()) c.ate_dr_m = j.at("ate_dr_m").get<double>();
     if (!j.at("ate_slam_m").is_null()) c.ate_slam_m = j.at("ate_slam_m").get<double>();
     // Absent in results before 2026-12-07.
-    if (j.contains("heading_rms_dr_deg") && !j.at("heading_rms_dr_deg").is_null())
-      c.heading_rms_dr_deg = j.at("heading_rms_dr_deg").get<double>();
-    if (j.contains("heading_rms_slam_deg") && !j.at("heading_rms_slam_deg").is_null())
-      c.heading_rms_slam_deg = j.at("heading_rms_slam_deg").get<double>();
+    for (auto [key, dst] : {std::pair{"heading_rms_dr_deg", &c.heading_rms_dr_deg},
+                            std::pair{"heading_rms_slam_deg", &c.heading_rms_slam_deg}})
+      if (j.contains(key) && !j.at(key).is_null()) *dst = j.at(key).get<double>();
     c.slam_runtime = runtime_stats_from_json(j.value("slam_runtime", nlohmann::json()));
     c.digest = j.at("digest").get<std::string>();
     c.wall_s = j.value("wall_s", 0.0);

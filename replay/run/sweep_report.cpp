@@ -144,20 +144,18 @@ std::string sweep_tables_markdown(const SweepReport& r) {
     md << "| " << name << " | " << opt_fmt("%.3f", p.mae()) << " | " << opt_fmt("%.3f", p.rmse()) << " | "
        << opt_fmt("%.3f", p.truth.mae()) << " | " << opt_fmt("%.3f", p.truth.rmse()) << " |\n";
   }
-  md << "\nATE per cell (m), DR / SLAM: ";
-  for (const auto& c : r.cells)
-    md << fmt("%.0f", c.cell.distance_m) << "m/" << fmt("%.0f", c.cell.rotation_deg) << "° "
-       << (c.ate_dr_m ? fmt("%.2f", *c.ate_dr_m) : "n/a") << "/" << (c.ate_slam_m ? fmt("%.2f", *c.ate_slam_m) : "n/a")
-       << (&c == &r.cells.back() ? "\n" : "; ");
-  bool any_heading = false;
-  for (const auto& c : r.cells) any_heading = any_heading || c.heading_rms_slam_deg.has_value();
-  if (any_heading) {
-    md << "\nKeyframe heading error per cell (°, RMS against truth), DR / SLAM: ";
+  // One line of DR / SLAM figures, cell by cell.
+  using CellFigure = std::optional<double> CellResult::*;
+  const auto per_cell = [&](const char* title, CellFigure dr, CellFigure slam) {
+    md << title;
     for (const auto& c : r.cells)
       md << fmt("%.0f", c.cell.distance_m) << "m/" << fmt("%.0f", c.cell.rotation_deg) << "° "
-         << opt_fmt("%.2f", c.heading_rms_dr_deg) << "/" << opt_fmt("%.2f", c.heading_rms_slam_deg)
-         << (&c == &r.cells.back() ? "\n" : "; ");
-  }
+         << opt_fmt("%.2f", c.*dr) << "/" << opt_fmt("%.2f", c.*slam) << (&c == &r.cells.back() ? "\n" : "; ");
+  };
+  per_cell("\nATE per cell (m), DR / SLAM: ", &CellResult::ate_dr_m, &CellResult::ate_slam_m);
+  if (std::any_of(r.cells.begin(), r.cells.end(), [](const CellResult& c) { return c.heading_rms_slam_deg.has_value(); }))
+    per_cell("\nKeyframe heading error per cell (°, RMS against truth), DR / SLAM: ", &CellResult::heading_rms_dr_deg,
+             &CellResult::heading_rms_slam_deg);
   md << "\nMission: " << fmt("%.0f", r.stream_s) << " s of sensor data.\n";
   return md.str();
 }
