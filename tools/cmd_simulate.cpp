@@ -31,7 +31,8 @@ struct SimulateArgs {
   bool labels = false;
   std::string out;
   std::string export_mesh;
-  std::string config_yaml;
+  std::string config_yaml;      // --sim-config
+  std::string old_config_yaml;  // --config, the option's name before 2026-12-07 (hidden; warns)
   std::string profile;  // field (default) or clean
   int threads = 2;
   std::string snapshot_dir;
@@ -42,7 +43,7 @@ struct SimulateArgs {
   bool quiet = false;
   int zstd_level = 1;  // fixture chunk compression (1: the renderer's pace; 19: smallest files)
   bool ranges = false;  // list the simulator config's keys with their valid ranges
-  // Flags actually given: only these override the --config file (docs/SCENES.md).
+  // Flags actually given: only these override the --sim-config file (docs/SCENES.md).
   bool duration_given = false, seed_given = false, resolution_given = false, threads_given = false;
 };
 
@@ -51,13 +52,21 @@ int simulate_fail(const std::string& msg) {
   return 2;
 }
 
-int run_simulate(const SimulateArgs& a) {
+int run_simulate(SimulateArgs a) {
+  if (!a.old_config_yaml.empty()) {
+    // Every other command's --config is the run configuration; the simulator's file is
+    // --sim-config everywhere (sweep, perception-check, batch plan sweep).
+    if (!a.config_yaml.empty()) return simulate_fail("--config is the old name of --sim-config: give one of them");
+    std::cerr << "orthosonar simulate: --config is now --sim-config (the name sweep, perception-check and batch use); "
+                 "reading '" << a.old_config_yaml << "' as --sim-config\n";
+    a.config_yaml = a.old_config_yaml;
+  }
   if (a.ranges) {
     for (const auto& r : sim::sim_config_key_ranges()) std::cout << r.key << "\t" << r.range << "\n";
     return 0;
   }
   // Precedence, lowest first: SimConfig's defaults and this command's (--threads 2), the
-  // --config file, the flags actually given (a flag left at its default never overrides
+  // --sim-config file, the flags actually given (a flag left at its default never overrides
   // the file: sweep and batch resolve the same way).
   sim::SimConfig cfg;
   cfg.render_threads = a.threads;
@@ -152,24 +161,25 @@ const bool registered_simulate = register_command(
        auto* scene = sub.add_option("--scene", a->scene, "Built-in scene: marina1, marina2, harbor, aircraft")
                          ->capture_default_str();
        sub.add_option("--scene-file", a->scene_file, "User scene YAML (docs/SCENES.md)")->excludes(scene);
-       auto* duration = sub.add_option("--duration", a->duration_s, "Mission length, seconds (overrides --config)")
+       auto* duration = sub.add_option("--duration", a->duration_s, "Mission length, seconds (overrides --sim-config)")
                             ->capture_default_str();
-       auto* seed = sub.add_option("--seed", a->seed, "Noise seed (speckle, sensors; overrides --config)")
+       auto* seed = sub.add_option("--seed", a->seed, "Noise seed (speckle, sensors; overrides --sim-config)")
                         ->capture_default_str();
        sub.add_option("--scene-seed", a->scene_seed, "Geometry seed of a built-in scene")->capture_default_str();
        auto* resolution = sub.add_option("--resolution", a->resolution,
-                                         "full (512x600) or reduced (256x300) (overrides --config)")
+                                         "full (512x600) or reduced (256x300) (overrides --sim-config)")
                               ->capture_default_str();
        sub.add_flag("--labels", a->labels, "Also write per-pixel class labels per ping");
        sub.add_option("-o,--out", a->out, "Fixture to write (.mcap)");
        sub.add_option("--export-mesh", a->export_mesh, "Write the ground-truth scene mesh (PLY)");
-       sub.add_option("--config", a->config_yaml, "Simulator config YAML (fields of SimConfig)");
+       sub.add_option("--sim-config", a->config_yaml, "Simulator config YAML (fields of SimConfig; docs/SCENES.md)");
+       sub.add_option("--config", a->old_config_yaml, "The old name of --sim-config")->group("");
        sub.add_option("--profile", a->profile, "Image formation: field (default: side lobes, multipath, seabed, absorption, TVG) or clean");
        sub.add_option("--zstd-level", a->zstd_level, "zstd level of the fixture's chunks (1 fastest, 19 smallest)")
            ->check(CLI::Range(1, 19))
            ->capture_default_str();
        auto* threads = sub.add_option("--threads", a->threads,
-                                      "Render threads (output identical for any count; overrides --config)")
+                                      "Render threads (output identical for any count; overrides --sim-config)")
                            ->capture_default_str();
        sub.add_option("--snapshot-dir", a->snapshot_dir, "Write fan PNGs of the pings at --snapshot-at times here");
        sub.add_option("--snapshot-at", a->snapshot_at_s, "Mission times (s) for snapshots");
@@ -179,7 +189,7 @@ const bool registered_simulate = register_command(
        sub.add_option("--real-ping", a->real_ping,
                       "With --compare-profiles: also draw this raw Oculus ping (oculus_m1200d_real.png)");
        sub.add_flag("-q,--quiet", a->quiet, "No summary line");
-       sub.add_flag("--ranges", a->ranges, "List every --config key with its valid range, and exit");
+       sub.add_flag("--ranges", a->ranges, "List every --sim-config key with its valid range, and exit");
        return [a, duration, seed, resolution, threads] {
          a->duration_given = duration->count() > 0;
          a->seed_given = seed->count() > 0;

@@ -40,7 +40,7 @@ struct SweepArgs {
   std::string fixture;  // use this fixture instead of simulating
   std::string sim_config;
   CommonRunArgs run;
-  // Flags actually given: only these override --sim-config (as `simulate --config`).
+  // Flags actually given: only these override --sim-config (as in `simulate`).
   bool duration_given = false, resolution_given = false, seeds_given = false;
 };
 

@@ -16,7 +16,7 @@ trap cleanup EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
 printf 'nav_profile: paper\n' > sim.yaml
-"$exe" simulate --scene marina1 --duration 4 --resolution reduced --config sim.yaml -o sim.mcap -q
+"$exe" simulate --scene marina1 --duration 4 --resolution reduced --sim-config sim.yaml -o sim.mcap -q
 "$exe" inspect sim.mcap --json > sim_inspect.json
 "$exe" emulate sim.mcap --rate 2 --status-port 0 --devices-out devices.yaml --linger 3 >emulate.out 2>emulate.err &
 emu_pid=$!

@@ -170,6 +170,7 @@ Table sonar_table(SonarModelConfig& s) {
       {"elevation_samples", kKeys.integer(s.elevation_samples, 32, 1024)},
       {"beam_samples", kKeys.integer(s.beam_samples, 1, 32)},
       {"beam_width_factor", kKeys.real(s.beam_width_factor, 0.01, 10.0)},
+      {"range_footprint", kKeys.boolean(s.range_footprint)},
       {"aperture_sigma_deg", kKeys.real(s.aperture_sigma_deg, 0.1, 90.0)},
       {"incidence_exponent", kKeys.real(s.incidence_exponent, 0.0, 10.0)},
       // Exponents and the TVG reference bound r^-p (r / r_ref)^q to what a float holds.

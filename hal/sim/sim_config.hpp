@@ -54,6 +54,11 @@ struct SonarModelConfig {
   int elevation_samples = 32;          // stratified rays across the aperture (>= 32)
   int beam_samples = 3;                // rays across each beam's width
   double beam_width_factor = 1.0;      // ray spread per beam as a multiple of the local beam spacing
+  // Each ray stands for its elevation stratum: its echo is spread over the ranges the
+  // stratum's footprint covers on the hit surface, not put in the hit's bin alone
+  // (docs/SCENES.md "Range footprint"). With beam_samples 1 a field pair renders in about
+  // two thirds of the time; off by default (it changes the images).
+  bool range_footprint = false;
   double aperture_sigma_deg = 8.5;     // Gaussian elevation pattern (-3 dB near +-10 deg at 20 deg)
   double incidence_exponent = 1.0;     // k in cos(incidence)^k
   double spreading_exponent = 2.0;     // p in r^-p

@@ -1,4 +1,4 @@
-// libFuzzer harness: simulator configuration YAML (`simulate --config`), then, for a
+// libFuzzer harness: simulator configuration YAML (`simulate --sim-config`), then, for a
 // configuration that validates, a short mission simulated with it: the trajectory, the
 // navigation streams and rendered pings, so a value that passes validation and still
 // divides by zero, overflows or makes NaN reaches ASan/UBSan (issue 35). The mission is kept

@@ -48,9 +48,9 @@ constexpr uint64_t kTextureStream = 0x5345414254455854ull, kReliefXStream = 0x52
 
 }  // namespace
 
-Scratch& detail::scratch() {
-  thread_local Scratch s;
-  return s;
+Scratch& detail::scratch(SonarMount mount) {
+  thread_local Scratch s[2];
+  return s[mount == SonarMount::kHorizontal ? 0 : 1];
 }
 
 std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount, Time stamp, uint32_t ping_id,
@@ -60,9 +60,9 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
   const SonarModelConfig& cfg = m.cfg;
   const int rows = h.geo.range_bins, cols = h.geo.beams;
   const size_t npix = static_cast<size_t>(rows) * static_cast<size_t>(cols);
-  Scratch& sc = scratch();
+  Scratch& sc = scratch(mount);
   std::vector<float> accum = std::move(sc.accum);
-  accum.assign(npix, 0.0f);
+  take_zeroed(accum, npix);
   float* const acc = accum.data();
   std::vector<int>& col_lo = sc.col_lo;
   std::vector<int>& col_hi = sc.col_hi;
@@ -93,6 +93,7 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
   const Eigen::Vector3f o = T_W_S.translation().cast<float>();
   const float inv_res = static_cast<float>(1.0 / h.geo.range_resolution_m);
   const float tfar = static_cast<float>(h.spec.max_range_m + 0.5 * h.geo.range_resolution_m);
+  const bool footprint = cfg.range_footprint;
   // Field profile switches.
   const bool lambert = cfg.seabed_lambert;
   const float mu = static_cast<float>(cfg.seabed_mu);
@@ -194,13 +195,47 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
           const int ci = std::min(kCosTable - 1, static_cast<int>(c * kCosTable));
           contrib = h.weight[ray] * m.reflect[tri] * m.cos_pow[static_cast<size_t>(ci)];
         }
-        const size_t px = static_cast<size_t>(bin) * static_cast<size_t>(cols) + static_cast<size_t>(j);
-        acc[px] += contrib;
-        touch(bin, j);
-        if (with_labels && contrib > best[px]) {
-          best[px] = contrib;
-          lab_sem[px] = m.semantic[tri];
-          lab_obj[px] = m.object[tri];
+        auto put = [&](int b, float c) {
+          const size_t px = static_cast<size_t>(b) * static_cast<size_t>(cols) + static_cast<size_t>(j);
+          acc[px] += c;
+          touch(b, j);
+          if (with_labels && c > best[px]) {
+            best[px] = c;
+            lab_sem[px] = m.semantic[tri];
+            lab_obj[px] = m.object[tri];
+          }
+        };
+        if (footprint) {
+          // The ray stands for its elevation stratum [phi + dlo, phi + dhi] (phi jittered
+          // within it). The direction at phi + delta is cos(delta) d + sin(delta) e, so on
+          // the hit's plane (normal n; A = n . d, B = n . e) the range there is
+          // r(delta) = t A / (cos(delta) A + sin(delta) B), monotonic over the stratum.
+          // Where the denominator changes sign the stratum's edge leaves the plane: cut at
+          // the fan's range. The echo is shared over the bins of [r_lo, r_hi] by overlap;
+          // a footprint within a hundredth of a bin stays in the hit's bin.
+          const Eigen::Vector3f e = R * Eigen::Vector3f(h.ex[ray], h.ey[ray], h.ez[ray]);
+          const Eigen::Vector3f& n = m.normal[tri];
+          const float A = n.dot(d), B = n.dot(e);
+          const float den_lo = h.lo_cos[ray] * A + h.lo_sin[ray] * B, den_hi = h.hi_cos[ray] * A + h.hi_sin[ray] * B;
+          const float r_at_lo = den_lo * A > 0.0f ? t * A / den_lo : tfar;
+          const float r_at_hi = den_hi * A > 0.0f ? t * A / den_hi : tfar;
+          const float r_lo = std::min({t, r_at_lo, r_at_hi}), r_hi = std::min(std::max({t, r_at_lo, r_at_hi}), tfar);
+          const float u_lo = r_lo * inv_res - 0.5f, u_hi = r_hi * inv_res - 0.5f;
+          const float len = u_hi - u_lo;
+          if (!(len > 0.01f)) {
+            put(bin, contrib);
+          } else {
+            const int b_lo = std::max(0, static_cast<int>(std::floor(u_lo)));
+            const int b_hi = std::min(rows - 1, static_cast<int>(std::floor(u_hi)));
+            const float per = contrib / len;
+            for (int k = b_lo; k <= b_hi; ++k) {
+              const float kf = static_cast<float>(k);
+              const float overlap = std::min(u_hi, kf + 1.0f) - std::max(u_lo, kf);
+              if (overlap > 0.0f) put(k, per * overlap);
+            }
+          }
+        } else {
+          put(bin, contrib);
         }
         // One-bounce multipath through each mirror plane (no occlusion test on the bounce):
         // out direct / back via the mirror and the reverse, both at (t + t')/2, one in this
@@ -235,8 +270,9 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
   // when strong enough to show above the noise floor, into the side lobes.
   if (!h.k_main.empty()) {
     std::vector<float> spread = std::move(sc.spread);
-    spread.assign(npix, 0.0f);
+    take_zeroed(spread, npix);
     const int W = 2 * h.main_half + 1, mh = h.main_half;
+    const int reach = h.reach;
     // Labels follow the main lobe (the target as the device resolves it); side lobes and
     // multipath ghosts keep the label of what the beam really looks at (often water).
     uint8_t* sem = nullptr;
@@ -285,8 +321,21 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
         }
       }
     }
+    // The returned image may be non-zero within the pattern's reach of a deposit; the
+    // unspread echoes go back to the scratch cleared.
+    sc.out_lo.resize(static_cast<size_t>(rows));
+    sc.out_hi.resize(static_cast<size_t>(rows));
+    for (size_t i = 0; i < static_cast<size_t>(rows); ++i) {
+      const bool any = col_lo[i] <= col_hi[i];
+      sc.out_lo[i] = any ? std::max(0, col_lo[i] - reach) : cols;
+      sc.out_hi[i] = any ? std::min(cols - 1, col_hi[i] + reach) : -1;
+    }
+    clear_rows(accum, cols, col_lo, col_hi);
     accum.swap(spread);
     sc.spread = std::move(spread);
+  } else {
+    sc.out_lo = col_lo;
+    sc.out_hi = col_hi;
   }
   return accum;
 }

@@ -79,6 +79,14 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
         h.dx.push_back(static_cast<float>(std::cos(ph) * std::cos(th)));
         h.dy.push_back(static_cast<float>(std::cos(ph) * std::sin(th)));
         h.dz.push_back(static_cast<float>(std::sin(ph)));
+        h.ex.push_back(static_cast<float>(-std::sin(ph) * std::cos(th)));
+        h.ey.push_back(static_cast<float>(-std::sin(ph) * std::sin(th)));
+        h.ez.push_back(static_cast<float>(std::cos(ph)));
+        const double stratum_lo = -0.5 * ap + ap * e / E, stratum_hi = -0.5 * ap + ap * (e + 1) / E;
+        h.lo_cos.push_back(static_cast<float>(std::cos(stratum_lo - ph)));
+        h.lo_sin.push_back(static_cast<float>(std::sin(stratum_lo - ph)));
+        h.hi_cos.push_back(static_cast<float>(std::cos(stratum_hi - ph)));
+        h.hi_sin.push_back(static_cast<float>(std::sin(stratum_hi - ph)));
         w.push_back(std::exp(-0.5 * (ph / sigma) * (ph / sigma)));
       }
     }
@@ -92,6 +100,13 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
       h.dx.push_back(1.0f);
       h.dy.push_back(0.0f);
       h.dz.push_back(0.0f);
+      h.ex.push_back(0.0f);
+      h.ey.push_back(0.0f);
+      h.ez.push_back(1.0f);
+      h.lo_cos.push_back(1.0f);
+      h.lo_sin.push_back(0.0f);
+      h.hi_cos.push_back(1.0f);
+      h.hi_sin.push_back(0.0f);
       h.weight.push_back(0.0f);
       h.gain_ap.push_back(1.0f);
     }
@@ -127,6 +142,7 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
     for (int j = 0; j + 1 < nb; ++j) min_spacing = std::min(min_spacing, h.bearings[static_cast<size_t>(j + 1)] - h.bearings[static_cast<size_t>(j)]);
     h.main_half = std::max(1, static_cast<int>(std::ceil(1.0 / (u_scale * min_spacing))));
     const int W = 2 * h.main_half + 1;
+    h.reach = h.main_half;
     h.k_main.assign(static_cast<size_t>(nb) * static_cast<size_t>(W), 0.0f);
     for (int j = 0; j < nb; ++j) {
       double total = 0.0;
@@ -148,6 +164,7 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
         const float t = static_cast<float>(p / total);
         h.k_side[static_cast<size_t>(j)].emplace_back(k, t);
         h.side_peak = std::max(h.side_peak, t);
+        h.reach = std::max(h.reach, std::abs(k));
       }
     }
     // Side lobes matter only where they can reach a tenth of the noise floor.

@@ -242,7 +242,10 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
       }
     }
   }
-  scratch().accum = std::move(accum);
+  // Back to the scratch all zero, for the next ping of this mount on this thread.
+  Scratch& sc = scratch(mount);
+  clear_rows(accum, cols, sc.out_lo, sc.out_hi);
+  sc.accum = std::move(accum);
   return out;
 }
 

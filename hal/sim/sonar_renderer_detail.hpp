@@ -47,6 +47,11 @@ struct HeadTables {
   // Ray pattern in the sonar frame, beam-major, and each ray's weight (aperture pattern,
   // normalised per beam) and its unnormalised aperture gain G(phi).
   std::vector<float> dx, dy, dz, weight, gain_ap;
+  // Per ray: d(direction)/d(elevation) in the sonar frame (unit), and cos and sin of the
+  // offsets from the ray's (jittered) elevation to its stratum's lower and upper bounds:
+  // the direction at offset delta is cos(delta) d + sin(delta) e, so a hit's range
+  // footprint on its plane follows exactly (sonar.range_footprint).
+  std::vector<float> ex, ey, ez, lo_cos, lo_sin, hi_cos, hi_sin;
   std::vector<float> row_signal;        // spreading * absorption * TVG * bin-width normalisation
   std::vector<float> row_noise;         // TVG applied to the noise floor (1: range-independent)
   std::vector<float> side_min;          // per row: the weakest echo whose side lobes can show
@@ -56,6 +61,7 @@ struct HeadTables {
   std::vector<float> k_main;            // beams x (2 main_half + 1)
   std::vector<std::vector<std::pair<int, float>>> k_side;
   float side_peak = 0.0f;               // the largest side-lobe tap (relative to the echo)
+  int reach = 0;                        // the farthest tap from its source beam (main or side)
   double absorption_db_per_m = 0.0;
   // Per ray: sqrt(max G / G(ray)), the largest factor a multipath ghost can get (early out).
   std::vector<float> ghost_bound;
@@ -101,16 +107,37 @@ inline int beam_of(const HeadTables& h, float y, float x) {
   return static_cast<int>(std::upper_bound(h.tan_mid.begin(), h.tan_mid.end(), t) - h.tan_mid.begin());
 }
 
-// Per-thread scratch of accumulate/render, reused from ping to ping (no allocation or page
-// faults per ping once warm). render() is const and may run on several threads at once:
-// each thread has its own.
+// Per-thread, per-mount scratch of accumulate/render, reused from ping to ping (no
+// allocation or page faults per ping once warm). render() is const and may run on several
+// threads at once: each thread has its own.
+//
+// accum and spread are kept all zero between pings: a ping clears only the cells it may
+// have written (per row, the columns [lo, hi] of deposits, widened by the beam pattern's
+// reach), so the images are not zeroed whole twice per ping. A buffer that left the
+// scratch (echo() hands it out) comes back empty and is zeroed whole.
 struct Scratch {
   std::vector<float> accum, spread, best, best_spread;
   std::vector<uint8_t> sem;
   std::vector<uint32_t> obj;
   std::vector<int> col_lo, col_hi;  // per row: the columns anything was deposited in (lo > hi: none)
+  std::vector<int> out_lo, out_hi;  // per row: the columns of the returned image that may be non-zero
 };
-Scratch& scratch();
+Scratch& scratch(SonarMount mount);
+
+// An all-zero buffer of n floats: `v` as the scratch left it (all zero) when its size is n,
+// else zeroed whole.
+inline void take_zeroed(std::vector<float>& v, size_t n) {
+  if (v.size() != n) v.assign(n, 0.0f);
+}
+
+// Zeroes, per row, the columns [lo[row], hi[row]] (none where lo > hi): what a ping wrote.
+inline void clear_rows(std::vector<float>& v, int cols, const std::vector<int>& lo, const std::vector<int>& hi) {
+  for (size_t r = 0; r < lo.size(); ++r) {
+    if (lo[r] > hi[r]) continue;
+    float* row = v.data() + r * static_cast<size_t>(cols);
+    std::fill(row + lo[r], row + hi[r] + 1, 0.0f);
+  }
+}
 
 }  // namespace detail
 

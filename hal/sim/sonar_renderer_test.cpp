@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <thread>
+#include <vector>
 
 #include "hal/sim/primitives.hpp"
 #include "hal/sim/scene.hpp"
@@ -156,6 +158,23 @@ SonarModelConfig field_config() {
   return c;
 }
 
+// The field profile's seabed without beam pattern, multipath, texture or relief: Lambert alone.
+SonarModelConfig plain_seabed_config() {
+  SonarModelConfig c = field_config();
+  c.beam_pattern = false;
+  c.surface_reflection = 0.0;
+  c.seabed_texture = 0.0;
+  c.seabed_relief_deg = 0.0;
+  return c;
+}
+
+// A flat seabed `altitude` below the origin.
+TriangleMesh flat_seabed(double altitude) {
+  TriangleMesh m;
+  MeshBuilder(m).box({0.0, 0.0, -altitude - 0.5}, {200.0, 200.0, 1.0}, 0.0, {1, SemanticClass::kSeafloor});
+  return m;
+}
+
 double db(double ratio) { return 10.0 * std::log10(ratio); }
 
 // Sum of a column's echo over rows [r0, r1).
@@ -255,14 +274,8 @@ TEST_CASE("field profile: a surface ghost appears at the predicted range", "[hal
 }
 
 TEST_CASE("field profile: seabed backscatter follows Lambert's law against incidence", "[hal]") {
-  SonarModelConfig c = field_config();
-  c.beam_pattern = false;
-  c.surface_reflection = 0.0;
-  c.seabed_texture = 0.0;
-  c.seabed_relief_deg = 0.0;
-  const double altitude = 5.0;
-  TriangleMesh m;  // a flat seabed 5 m below the sonar
-  MeshBuilder(m).box({0.0, 0.0, -altitude - 0.5}, {200.0, 200.0, 1.0}, 0.0, {1, SemanticClass::kSeafloor});
+  SonarModelConfig c = plain_seabed_config();
+  const TriangleMesh m = flat_seabed(5.0);
   const SonarRenderer renderer(m, c, Resolution::kFull, 1);
   // Vertical sonar: its beams measure elevation, so each beam meets the seabed at one incidence.
   const EchoImage e = renderer.echo(se3_from_xyz_rpy(0, 0, 0, std::numbers::pi / 2.0, 0, 0), SonarMount::kVertical);
@@ -360,6 +373,83 @@ TEST_CASE("the M1200d's 2.1 MHz mode: 60 x 12 deg, 10 m, its own bearing table",
   // 20 pings/s at 30 m is within the two-way travel time (25 Hz); 30 is not.
   CHECK(apply_sim_config_yaml("nav: {ping_rate_hz: 20}\n", d).ok());
   CHECK(!apply_sim_config_yaml("nav: {ping_rate_hz: 30}\n", d).ok());
+}
+
+TEST_CASE("range footprint: a sloping seabed's echo fills its ranges and keeps its energy", "[hal]") {
+  // The horizontal sonar pitched 30 deg down at 5 m altitude: its 20 deg aperture meets a
+  // flat seabed from 7.8 m to 14.6 m, so 32 elevation rays of one beam are 32 point echoes
+  // over ~140 bins. With the footprint each ray covers its stratum's ranges instead.
+  SonarModelConfig c = plain_seabed_config();
+  c.beam_samples = 1;
+  const TriangleMesh m = flat_seabed(5.0);
+  const SE3 T = se3_from_xyz_rpy(0, 0, 0, 0, 30 * kDeg, 0);
+  const SonarRenderer points(m, c, Resolution::kFull, 1);
+  c.range_footprint = true;
+  const SonarRenderer footprint(m, c, Resolution::kFull, 1);
+  const EchoImage a = points.echo(T, SonarMount::kHorizontal), b = footprint.echo(T, SonarMount::kHorizontal);
+  // Per column: the bins between the first and last echo, and how many of them are empty.
+  auto gaps = [](const EchoImage& e, int col, int& span) {
+    int first = -1, last = -1, empty = 0;
+    for (int r = 0; r < e.rows; ++r) {
+      if (e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)] > 0.0f) {
+        if (first < 0) first = r;
+        last = r;
+      }
+    }
+    for (int r = first; first >= 0 && r <= last; ++r) {
+      if (e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)] == 0.0f) ++empty;
+    }
+    span = first < 0 ? 0 : last - first + 1;
+    return empty;
+  };
+  int checked = 0, gaps_points = 0, gaps_footprint = 0;
+  for (int col = 0; col < a.cols; ++col) {
+    if (std::abs(a.bearings_rad[static_cast<size_t>(col)]) > 40 * kDeg) continue;
+    const double sa = column_sum(a, col), sb = column_sum(b, col);
+    REQUIRE(sa > 0.0);
+    CHECK(sb == Approx(sa).epsilon(0.02));  // the same energy, spread over range
+    int span_a = 0, span_b = 0;
+    gaps_points += gaps(a, col, span_a);
+    gaps_footprint += gaps(b, col, span_b);
+    CHECK(span_a > 100);
+    CHECK(span_b >= span_a);
+    ++checked;
+  }
+  CHECK(checked > 200);
+  CHECK(gaps_points > 50 * checked);  // point echoes leave most bins of the span empty
+  // The footprints tile the span: the only gaps are where neighbouring strata's rays,
+  // jittered across the beam width, meet the slope at slightly different ranges.
+  INFO("empty bins inside the span: " << gaps_points << " point echoes, " << gaps_footprint << " footprints, " << checked << " beams");
+  CHECK(gaps_footprint * 10 < checked);
+}
+
+TEST_CASE("a ping's image does not depend on the pings rendered before it on its thread", "[hal]") {
+  // The renderer keeps its per-ping buffers per thread and clears only what a ping wrote:
+  // a ping rendered after others must equal the same ping rendered first on a new thread.
+  const Scene scene = *builtin_scene("marina1", 1);
+  SonarModelConfig c = field_config();
+  c.seafloor_depth_m = scene.seafloor_depth_m;
+  const SonarRenderer r(scene.mesh, c, Resolution::kReduced, 7);
+  const SE3 T1 = se3_from_xyz_rpy(-21, 7, -scene.vehicle_depth_m, 0, 0, std::numbers::pi / 2.0);
+  const SE3 T2 = se3_from_xyz_rpy(-5, -3, -scene.vehicle_depth_m, 0, 0.2, 0.3);
+  for (const SonarMount mount : {SonarMount::kHorizontal, SonarMount::kVertical}) {
+    std::vector<uint8_t> first, after, labels_first, labels_after;
+    std::thread([&] {
+      const SonarRender p = r.render(T2, mount, Time::from_s(2), 9, true);
+      first = p.ping.image;
+      labels_first = p.labels.semantic;
+    }).join();
+    std::thread([&] {
+      (void)r.render(T1, mount, Time::from_s(1), 3, true);
+      (void)r.echo(T1, mount);  // hands its buffer out: the next ping starts from a new one
+      (void)r.render(T1, mount, Time::from_s(1), 4, false);
+      const SonarRender p = r.render(T2, mount, Time::from_s(2), 9, true);
+      after = p.ping.image;
+      labels_after = p.labels.semantic;
+    }).join();
+    CHECK(first == after);
+    CHECK(labels_first == labels_after);
+  }
 }
 
 }  // namespace orthosonar::sim

@@ -23,7 +23,7 @@ struct MissionSpec {
 
 // A mission's duration, resolution and seeds from a command line (sweep, batch plan sweep)
 // and its simulator config: a flag given wins over the file, the file over the flag's
-// default, as `simulate --config` resolves them (docs/SCENES.md). An invalid file is an
+// default, as `simulate --sim-config` resolves them (docs/SCENES.md). An invalid file is an
 // error here, before anything runs.
 struct MissionFlags {
   double duration_s = 180.0;

@@ -1,5 +1,5 @@
 #!/bin/sh
-# One simulator config file, one mission (issue 35): `simulate --config`, `sweep --sim-config`
+# One simulator config file, one mission (issue 35): `simulate --sim-config`, `sweep --sim-config`
 # and `batch plan sweep --sim-config` take duration_s, seed and resolution from the file
 # unless the flag is actually given; a flag given wins. (simulate used to overwrite the
 # file's values with its flags' defaults.) Usage: sim_config_precedence_test.sh ORTHOSONAR OUT_DIR
@@ -13,15 +13,23 @@ expect() {  # expect FILE 'fragment' 'what'
 }
 
 # simulate: the file's values, then flags given over them.
-"$cli" simulate --scene aircraft --config "$out/sim.yaml" > "$out/simulate_file.txt"
-expect "$out/simulate_file.txt" ': 1.0 s, seed 7, reduced,' "simulate takes duration_s, seed, resolution from --config"
-"$cli" simulate --scene aircraft --config "$out/sim.yaml" --duration 0.5 --seed 3 > "$out/simulate_flags.txt"
-expect "$out/simulate_flags.txt" ': 0.5 s, seed 3, reduced,' "simulate --duration/--seed given override --config"
-"$cli" simulate --scene aircraft --config "$out/sim.yaml" --duration 0.2 --resolution full > "$out/simulate_res.txt"
-expect "$out/simulate_res.txt" ': 0.2 s, seed 7, full,' "simulate --resolution given overrides --config"
+"$cli" simulate --scene aircraft --sim-config "$out/sim.yaml" > "$out/simulate_file.txt"
+expect "$out/simulate_file.txt" ': 1.0 s, seed 7, reduced,' "simulate takes duration_s, seed, resolution from --sim-config"
+# --config, the option's old name, still reads the file, and says so on stderr.
+"$cli" simulate --scene aircraft --config "$out/sim.yaml" > "$out/simulate_old.txt" 2> "$out/simulate_old.err"
+expect "$out/simulate_old.txt" ': 1.0 s, seed 7, reduced,' "simulate --config (the old name) still reads the file"
+expect "$out/simulate_old.err" 'now --sim-config' "simulate --config says it is now --sim-config"
+if "$cli" simulate --scene aircraft --config "$out/sim.yaml" --sim-config "$out/sim.yaml" --duration 0.2 > /dev/null 2> "$out/both.err"; then
+  echo "FAIL: --config and --sim-config together accepted"; exit 1
+fi
+expect "$out/both.err" 'give one of them' "simulate --config with --sim-config is an error"
+"$cli" simulate --scene aircraft --sim-config "$out/sim.yaml" --duration 0.5 --seed 3 > "$out/simulate_flags.txt"
+expect "$out/simulate_flags.txt" ': 0.5 s, seed 3, reduced,' "simulate --duration/--seed given override --sim-config"
+"$cli" simulate --scene aircraft --sim-config "$out/sim.yaml" --duration 0.2 --resolution full > "$out/simulate_res.txt"
+expect "$out/simulate_res.txt" ': 0.2 s, seed 7, full,' "simulate --resolution given overrides --sim-config"
 # A --profile that contradicts the file's profile is an error, not a silent choice.
 printf 'profile: clean\n' > "$out/clean.yaml"
-if "$cli" simulate --scene aircraft --config "$out/clean.yaml" --profile field --duration 0.2 > /dev/null 2> "$out/profile.err"; then
+if "$cli" simulate --scene aircraft --sim-config "$out/clean.yaml" --profile field --duration 0.2 > /dev/null 2> "$out/profile.err"; then
   echo "FAIL: --profile field with 'profile: clean' accepted"; exit 1
 fi
 expect "$out/profile.err" "contradicts" "simulate --profile contradicting the file is an error"

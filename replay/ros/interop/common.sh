@@ -1,5 +1,5 @@
 # Sourced by roundtrip.sh, ros2_typescript.sh and gyro_interop.sh (needs $cli, $scene,
-# $seconds, fail(); $sim_args, if set, adds simulate options such as --config FILE):
+# $seconds, fail(); $sim_args, if set, adds simulate options such as --sim-config FILE):
 # simulates the mission, writes its effective configuration to cfg.yaml and defines
 # run <fixture> <out dir> (a replay with that configuration and the scene's mesh) and
 # same_maps <out dir> <label> (the round trip's maps and trajectories are the original's).

@@ -26,7 +26,7 @@ rm -rf ./*
 fail() { echo "gyro-python-interop FAILED: $*"; exit 1; }
 
 printf 'nav_profile: paper\n' >paper.yaml
-sim_args="--config paper.yaml"
+sim_args="--sim-config paper.yaml"
 . "$src/common.sh"
 run orig.mcap out_orig
 
