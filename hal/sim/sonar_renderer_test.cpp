@@ -423,6 +423,36 @@ TEST_CASE("range footprint: a sloping seabed's echo fills its ranges and keeps i
   CHECK(gaps_footprint * 10 < checked);
 }
 
+TEST_CASE("range footprint: a stratum that reaches the horizon spreads its echo to the fan's range", "[hal]") {
+  // 0.2 m above a flat seabed, level: the strata just below the horizon hit the seabed
+  // within 30 m, but their upper bounds look above it, so their footprints have no far end.
+  SonarModelConfig c = plain_seabed_config();
+  c.beam_samples = 1;
+  c.range_footprint = true;
+  const SonarRenderer r(flat_seabed(0.2), c, Resolution::kFull, 1);
+  const EchoImage e = r.echo(SE3::Identity(), SonarMount::kHorizontal);
+  int reach_end = 0;
+  for (int col = 0; col < e.cols; ++col) {
+    for (int row = 0; row < e.rows; ++row) {
+      const float v = e.echo[static_cast<size_t>(row) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)];
+      if (!std::isfinite(v) || v < 0.0f) FAIL("echo " << v << " at row " << row << ", beam " << col);
+    }
+    if (e.echo[static_cast<size_t>(e.rows - 1) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)] > 0.0f) ++reach_end;
+  }
+  // The stratum just below the horizon ([-0.625, 0] deg) is open-ended; its jittered ray
+  // hits within 30 m when it is more than 0.38 deg down: in about 40 % of the beams.
+  CHECK(reach_end > e.cols / 4);  // the open footprints run to the last bin
+  // Without the footprint the same rays are point echoes short of the fan's end.
+  c.range_footprint = false;
+  const SonarRenderer points(flat_seabed(0.2), c, Resolution::kFull, 1);
+  const EchoImage p = points.echo(SE3::Identity(), SonarMount::kHorizontal);
+  int point_end = 0;
+  for (int col = 0; col < p.cols; ++col) {
+    if (p.echo[static_cast<size_t>(p.rows - 1) * static_cast<size_t>(p.cols) + static_cast<size_t>(col)] > 0.0f) ++point_end;
+  }
+  CHECK(point_end < reach_end);
+}
+
 TEST_CASE("a ping's image does not depend on the pings rendered before it on its thread", "[hal]") {
   // The renderer keeps its per-ping buffers per thread and clears only what a ping wrote:
   // a ping rendered after others must equal the same ping rendered first on a new thread.
