@@ -272,7 +272,6 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
     std::vector<float> spread = std::move(sc.spread);
     take_zeroed(spread, npix);
     const int W = 2 * h.main_half + 1, mh = h.main_half;
-    const int reach = h.reach;
     // Labels follow the main lobe (the target as the device resolves it); side lobes and
     // multipath ghosts keep the label of what the beam really looks at (often water).
     uint8_t* sem = nullptr;
@@ -321,21 +320,11 @@ std::vector<float> SonarRenderer::accumulate(const SE3& T_W_S, SonarMount mount,
         }
       }
     }
-    // The returned image may be non-zero within the pattern's reach of a deposit; the
-    // unspread echoes go back to the scratch cleared.
-    sc.out_lo.resize(static_cast<size_t>(rows));
-    sc.out_hi.resize(static_cast<size_t>(rows));
-    for (size_t i = 0; i < static_cast<size_t>(rows); ++i) {
-      const bool any = col_lo[i] <= col_hi[i];
-      sc.out_lo[i] = any ? std::max(0, col_lo[i] - reach) : cols;
-      sc.out_hi[i] = any ? std::min(cols - 1, col_hi[i] + reach) : -1;
-    }
-    clear_rows(accum, cols, col_lo, col_hi);
+    // The unspread echoes go back to the scratch cleared; the returned image may be
+    // non-zero within the pattern's reach of a deposit (render() clears that).
+    clear_rows(accum, cols, col_lo, col_hi, 0);
     accum.swap(spread);
     sc.spread = std::move(spread);
-  } else {
-    sc.out_lo = col_lo;
-    sc.out_hi = col_hi;
   }
   return accum;
 }

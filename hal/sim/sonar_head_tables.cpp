@@ -63,6 +63,7 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
   // within strata) across the aperture. The pattern is fixed per beam (the device's
   // geometry) and differs between beams, so no stripes line up across the image.
   const int S = cfg.beam_samples, E = cfg.elevation_samples;
+  const bool footprint = cfg.range_footprint;  // its per-ray tables only when it is used
   h.rays_per_beam = ((S * E + 15) / 16) * 16;
   const double ap = spec.aperture_deg * kRadPerDeg, sigma = cfg.aperture_sigma_deg * kRadPerDeg * (spec.aperture_deg / 20.0);
   for (int j = 0; j < nb; ++j) {
@@ -79,14 +80,16 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
         h.dx.push_back(static_cast<float>(std::cos(ph) * std::cos(th)));
         h.dy.push_back(static_cast<float>(std::cos(ph) * std::sin(th)));
         h.dz.push_back(static_cast<float>(std::sin(ph)));
-        h.ex.push_back(static_cast<float>(-std::sin(ph) * std::cos(th)));
-        h.ey.push_back(static_cast<float>(-std::sin(ph) * std::sin(th)));
-        h.ez.push_back(static_cast<float>(std::cos(ph)));
-        const double stratum_lo = -0.5 * ap + ap * e / E, stratum_hi = -0.5 * ap + ap * (e + 1) / E;
-        h.lo_cos.push_back(static_cast<float>(std::cos(stratum_lo - ph)));
-        h.lo_sin.push_back(static_cast<float>(std::sin(stratum_lo - ph)));
-        h.hi_cos.push_back(static_cast<float>(std::cos(stratum_hi - ph)));
-        h.hi_sin.push_back(static_cast<float>(std::sin(stratum_hi - ph)));
+        if (footprint) {
+          h.ex.push_back(static_cast<float>(-std::sin(ph) * std::cos(th)));
+          h.ey.push_back(static_cast<float>(-std::sin(ph) * std::sin(th)));
+          h.ez.push_back(static_cast<float>(std::cos(ph)));
+          const double stratum_lo = -0.5 * ap + ap * e / E, stratum_hi = -0.5 * ap + ap * (e + 1) / E;
+          h.lo_cos.push_back(static_cast<float>(std::cos(stratum_lo - ph)));
+          h.lo_sin.push_back(static_cast<float>(std::sin(stratum_lo - ph)));
+          h.hi_cos.push_back(static_cast<float>(std::cos(stratum_hi - ph)));
+          h.hi_sin.push_back(static_cast<float>(std::sin(stratum_hi - ph)));
+        }
         w.push_back(std::exp(-0.5 * (ph / sigma) * (ph / sigma)));
       }
     }
@@ -100,13 +103,15 @@ void build_head(HeadTables& h, const SonarHead& spec, const SonarModelConfig& cf
       h.dx.push_back(1.0f);
       h.dy.push_back(0.0f);
       h.dz.push_back(0.0f);
-      h.ex.push_back(0.0f);
-      h.ey.push_back(0.0f);
-      h.ez.push_back(1.0f);
-      h.lo_cos.push_back(1.0f);
-      h.lo_sin.push_back(0.0f);
-      h.hi_cos.push_back(1.0f);
-      h.hi_sin.push_back(0.0f);
+      if (footprint) {
+        h.ex.push_back(0.0f);
+        h.ey.push_back(0.0f);
+        h.ez.push_back(1.0f);
+        h.lo_cos.push_back(1.0f);
+        h.lo_sin.push_back(0.0f);
+        h.hi_cos.push_back(1.0f);
+        h.hi_sin.push_back(0.0f);
+      }
       h.weight.push_back(0.0f);
       h.gain_ap.push_back(1.0f);
     }

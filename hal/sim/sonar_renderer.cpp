@@ -242,9 +242,10 @@ SonarRender SonarRenderer::render(const SE3& T_W_S, SonarMount mount, Time stamp
       }
     }
   }
-  // Back to the scratch all zero, for the next ping of this mount on this thread.
+  // Back to the scratch all zero, for the next ping of this mount on this thread: the image
+  // is non-zero at most within the beam pattern's reach of this ping's deposits.
   Scratch& sc = scratch(mount);
-  clear_rows(accum, cols, sc.out_lo, sc.out_hi);
+  clear_rows(accum, cols, sc.col_lo, sc.col_hi, h.reach);
   sc.accum = std::move(accum);
   return out;
 }

@@ -50,7 +50,7 @@ struct HeadTables {
   // Per ray: d(direction)/d(elevation) in the sonar frame (unit), and cos and sin of the
   // offsets from the ray's (jittered) elevation to its stratum's lower and upper bounds:
   // the direction at offset delta is cos(delta) d + sin(delta) e, so a hit's range
-  // footprint on its plane follows exactly (sonar.range_footprint).
+  // footprint on its plane follows exactly. Built only with sonar.range_footprint.
   std::vector<float> ex, ey, ez, lo_cos, lo_sin, hi_cos, hi_sin;
   std::vector<float> row_signal;        // spreading * absorption * TVG * bin-width normalisation
   std::vector<float> row_noise;         // TVG applied to the noise floor (1: range-independent)
@@ -61,7 +61,7 @@ struct HeadTables {
   std::vector<float> k_main;            // beams x (2 main_half + 1)
   std::vector<std::vector<std::pair<int, float>>> k_side;
   float side_peak = 0.0f;               // the largest side-lobe tap (relative to the echo)
-  int reach = 0;                        // the farthest tap from its source beam (main or side)
+  int reach = 0;                        // the farthest tap from its source beam (main or side; 0 without a pattern)
   double absorption_db_per_m = 0.0;
   // Per ray: sqrt(max G / G(ray)), the largest factor a multipath ghost can get (early out).
   std::vector<float> ghost_bound;
@@ -120,7 +120,6 @@ struct Scratch {
   std::vector<uint8_t> sem;
   std::vector<uint32_t> obj;
   std::vector<int> col_lo, col_hi;  // per row: the columns anything was deposited in (lo > hi: none)
-  std::vector<int> out_lo, out_hi;  // per row: the columns of the returned image that may be non-zero
 };
 Scratch& scratch(SonarMount mount);
 
@@ -130,12 +129,13 @@ inline void take_zeroed(std::vector<float>& v, size_t n) {
   if (v.size() != n) v.assign(n, 0.0f);
 }
 
-// Zeroes, per row, the columns [lo[row], hi[row]] (none where lo > hi): what a ping wrote.
-inline void clear_rows(std::vector<float>& v, int cols, const std::vector<int>& lo, const std::vector<int>& hi) {
+// Zeroes, per row, the columns [lo[row] - widen, hi[row] + widen] within the image (none
+// where lo > hi): what a ping wrote, widened by the beam pattern's reach where it spread.
+inline void clear_rows(std::vector<float>& v, int cols, const std::vector<int>& lo, const std::vector<int>& hi, int widen) {
   for (size_t r = 0; r < lo.size(); ++r) {
     if (lo[r] > hi[r]) continue;
     float* row = v.data() + r * static_cast<size_t>(cols);
-    std::fill(row + lo[r], row + hi[r] + 1, 0.0f);
+    std::fill(row + std::max(0, lo[r] - widen), row + std::min(cols - 1, hi[r] + widen) + 1, 0.0f);
   }
 }
 

@@ -177,10 +177,22 @@ TriangleMesh flat_seabed(double altitude) {
 
 double db(double ratio) { return 10.0 * std::log10(ratio); }
 
+// The echo at (row, col).
+float echo_at(const EchoImage& e, int row, int col) {
+  return e.echo[static_cast<size_t>(row) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)];
+}
+
+// How many beams have an echo in the fan's last range bin.
+int beams_in_last_bin(const EchoImage& e) {
+  int n = 0;
+  for (int col = 0; col < e.cols; ++col) n += echo_at(e, e.rows - 1, col) > 0.0f ? 1 : 0;
+  return n;
+}
+
 // Sum of a column's echo over rows [r0, r1).
 double column_sum(const EchoImage& e, int col, int r0 = 0, int r1 = -1) {
   double s = 0.0;
-  for (int r = r0; r < (r1 < 0 ? e.rows : r1); ++r) s += e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)];
+  for (int r = r0; r < (r1 < 0 ? e.rows : r1); ++r) s += echo_at(e, r, col);
   return s;
 }
 
@@ -245,7 +257,7 @@ TEST_CASE("field profile: a surface ghost appears at the predicted range", "[hal
       if (std::abs(rr - range_m) > half_m) continue;
       for (int col = 0; col < e.cols; ++col) {
         const double el = e.bearings_rad[static_cast<size_t>(col)];
-        if (el >= min_elev && el <= max_elev) s += e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)];
+        if (el >= min_elev && el <= max_elev) s += echo_at(e, r, col);
       }
     }
     return s;
@@ -269,7 +281,7 @@ TEST_CASE("field profile: a surface ghost appears at the predicted range", "[hal
   const EchoImage e0 = plain.echo(T_W_S, SonarMount::kVertical);
   double far = 0.0;
   for (int r = static_cast<int>((t + 0.5) / e0.range_resolution_m); r < e0.rows; ++r)
-    for (int col = 0; col < e0.cols; ++col) far += e0.echo[static_cast<size_t>(r) * static_cast<size_t>(e0.cols) + static_cast<size_t>(col)];
+    for (int col = 0; col < e0.cols; ++col) far += echo_at(e0, r, col);
   CHECK(far == 0.0);
 }
 
@@ -391,13 +403,13 @@ TEST_CASE("range footprint: a sloping seabed's echo fills its ranges and keeps i
   auto gaps = [](const EchoImage& e, int col, int& span) {
     int first = -1, last = -1, empty = 0;
     for (int r = 0; r < e.rows; ++r) {
-      if (e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)] > 0.0f) {
+      if (echo_at(e, r, col) > 0.0f) {
         if (first < 0) first = r;
         last = r;
       }
     }
     for (int r = first; first >= 0 && r <= last; ++r) {
-      if (e.echo[static_cast<size_t>(r) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)] == 0.0f) ++empty;
+      if (echo_at(e, r, col) == 0.0f) ++empty;
     }
     span = first < 0 ? 0 : last - first + 1;
     return empty;
@@ -431,26 +443,20 @@ TEST_CASE("range footprint: a stratum that reaches the horizon spreads its echo 
   c.range_footprint = true;
   const SonarRenderer r(flat_seabed(0.2), c, Resolution::kFull, 1);
   const EchoImage e = r.echo(SE3::Identity(), SonarMount::kHorizontal);
-  int reach_end = 0;
   for (int col = 0; col < e.cols; ++col) {
     for (int row = 0; row < e.rows; ++row) {
-      const float v = e.echo[static_cast<size_t>(row) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)];
+      const float v = echo_at(e, row, col);
       if (!std::isfinite(v) || v < 0.0f) FAIL("echo " << v << " at row " << row << ", beam " << col);
     }
-    if (e.echo[static_cast<size_t>(e.rows - 1) * static_cast<size_t>(e.cols) + static_cast<size_t>(col)] > 0.0f) ++reach_end;
   }
+  const int reach_end = beams_in_last_bin(e);
   // The stratum just below the horizon ([-0.625, 0] deg) is open-ended; its jittered ray
   // hits within 30 m when it is more than 0.38 deg down: in about 40 % of the beams.
   CHECK(reach_end > e.cols / 4);  // the open footprints run to the last bin
   // Without the footprint the same rays are point echoes short of the fan's end.
   c.range_footprint = false;
   const SonarRenderer points(flat_seabed(0.2), c, Resolution::kFull, 1);
-  const EchoImage p = points.echo(SE3::Identity(), SonarMount::kHorizontal);
-  int point_end = 0;
-  for (int col = 0; col < p.cols; ++col) {
-    if (p.echo[static_cast<size_t>(p.rows - 1) * static_cast<size_t>(p.cols) + static_cast<size_t>(col)] > 0.0f) ++point_end;
-  }
-  CHECK(point_end < reach_end);
+  CHECK(beams_in_last_bin(points.echo(SE3::Identity(), SonarMount::kHorizontal)) < reach_end);
 }
 
 TEST_CASE("a ping's image does not depend on the pings rendered before it on its thread", "[hal]") {
