@@ -10,6 +10,7 @@ import { McapStreamReader, McapWriter } from "@mcap/core";
 import { loadDecompressHandlers } from "@mcap/support";
 import zstd from "@foxglove/wasm-zstd";
 import lz4 from "lz4js";
+import { fileWritable } from "./file_writable.mjs";
 
 const [, , inPath, outPath, mode] = process.argv;
 const fail = (msg) => {
@@ -87,14 +88,7 @@ const input = records(new Uint8Array(await readFile(inPath)));
 // Write: records in the input's order; schemas and channels are registered when met (the
 // writer puts them in the data section, or inside the chunk, before their first message).
 const file = await open(outPath, "w");
-let position = 0n;
-const writable = {
-  write: async (buffer) => {
-    await file.write(buffer);
-    position += BigInt(buffer.byteLength);
-  },
-  position: () => position,
-};
+const writable = fileWritable(file);
 const writer = new McapWriter({ writable, ...modes[mode] });
 const schemaIds = new Map();
 const channelIds = new Map();
@@ -151,7 +145,7 @@ const compressions = [...new Set(chunks.map((r) => r.compression))];
 const footer = output.find((r) => r.type === "Footer");
 const fact = {
   mode,
-  bytes: Number(position),
+  bytes: Number(writable.position()),
   chunks: chunks.length,
   compressions,
   summary: footer.summaryStart !== 0n,

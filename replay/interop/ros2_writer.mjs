@@ -12,6 +12,7 @@ import { parse } from "@foxglove/rosmsg";
 import { MessageReader } from "@foxglove/rosmsg-serialization";
 import { MessageWriter } from "@foxglove/rosmsg2-serialization";
 import lz4 from "lz4js";
+import { fileWritable } from "./file_writable.mjs";
 
 const [, , inPath, outPath] = process.argv;
 const fail = (msg) => {
@@ -61,11 +62,7 @@ const reader = new McapStreamReader({ decompressHandlers, validateCrcs: true });
 reader.append(new Uint8Array(await readFile(inPath)));
 
 const file = await open(outPath, "w");
-let position = 0n;
-const writable = {
-  write: async (b) => { await file.write(b); position += BigInt(b.byteLength); },
-  position: () => position,
-};
+const writable = fileWritable(file);
 const writer = new McapWriter({
   writable,
   chunkSize: 512 * 1024,
@@ -139,4 +136,4 @@ await file.close();
 // The five sensor topics, and the gyro when the mission has one (navigation profile paper).
 const expected = 5 + (outChannels.has("/gyro") ? 1 : 0);
 if (Object.keys(counts).length !== expected) fail(`wrote ${Object.keys(counts).length} topics, expected ${expected}: ${JSON.stringify(counts)}`);
-console.log(JSON.stringify({ bytes: Number(position), counts }));
+console.log(JSON.stringify({ bytes: Number(writable.position()), counts }));
