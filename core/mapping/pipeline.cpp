@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <variant>
 
+#include "core/slam/planar_cloud.hpp"
+
 namespace orthosonar::mapping {
 namespace {
 
@@ -160,6 +162,14 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
   counts_.fused_points += static_cast<int64_t>(fused.points.size());
   if (observer_) observer_(p.h, p.v, fused);
   const SE3& T_W_V = *pose;
+  if (config_.slam.keyframe_cloud_s > 0.0) {
+    CloudPair c{stamp, {}};
+    c.p_W = perception::points_V_at_elevation(p.h, fused.detections_h, config_.fusion.T_V_h, 0.0);
+    for (Eigen::Vector3d& q : c.p_W) q = T_W_V * q;
+    cloud_window_.push_back(std::move(c));
+    const Time oldest = stamp - Time::from_seconds(config_.slam.keyframe_cloud_s);
+    while (cloud_window_.front().stamp < oldest) cloud_window_.pop_front();
+  }
   if (slam_.should_add(T_W_V)) {
     int id = 0;
     {
@@ -170,9 +180,7 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
         dr_sigma.heading_rad = dr_.heading_sigma_rad(kfs.back().stamp, stamp);
         dr_sigma.translation_m = dr_.translation_sigma_m(kfs.back().stamp, stamp);
       }
-      id = slam_.add_keyframe(stamp, T_W_V,
-                              perception::planar_points_V(p.h, fused.detections_h, config_.fusion.T_V_h),
-                              dr_sigma);
+      id = slam_.add_keyframe(stamp, T_W_V, keyframe_cloud_V(T_W_V, p.h, fused), dr_sigma);
     }
     std::vector<SE3> poses;
     poses.reserve(slam_.keyframes().size());
@@ -184,6 +192,33 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
   }
   const PairInput in{stamp, &p.h, &p.v, &fused, T_W_V};
   for (auto& s : systems_) s->on_pair(in);
+}
+
+std::vector<Eigen::Vector2d> Pipeline::keyframe_cloud_V(const SE3& T_W_V, const SonarPing& h,
+                                                      const perception::FusionResult& fused) {
+  std::vector<Eigen::Vector2d> own = perception::planar_points_V(h, fused.detections_h, config_.fusion.T_V_h);
+  const slam::SlamConfig& s = config_.slam;
+  if (s.keyframe_cloud_s <= 0.0) return own;
+  if (!s.keyframe_cloud_always &&
+      slam::prepare_planar_cloud(own, {s.voxel_m, s.outlier_radius_m, s.outlier_min_neighbours}).size() >=
+          s.ssm_min_points) {
+    cloud_window_.clear();
+    return own;
+  }
+  // The window holds this pair and the earlier ones since the previous keyframe: each
+  // detection back in this keyframe's frame V, by DR, as x, y (the SPEC's planar cloud).
+  const SE3 T_V_W = T_W_V.inverse();
+  std::vector<Eigen::Vector2d> out;
+  size_t n = 0;
+  for (const CloudPair& c : cloud_window_) n += c.p_W.size();
+  out.reserve(n);
+  for (const CloudPair& c : cloud_window_)
+    for (const Eigen::Vector3d& q : c.p_W) {
+      const Eigen::Vector3d p_V = T_V_W * q;
+      out.emplace_back(p_V.x(), p_V.y());
+    }
+  cloud_window_.clear();
+  return out;
 }
 
 PipelineCounts Pipeline::counts() const {
@@ -206,10 +241,12 @@ std::vector<std::pair<std::string, RuntimeStats>> Pipeline::runtime() const {
 MemoryParts Pipeline::memory() const {
   int64_t queued = pairer_.memory_bytes() + heap_bytes(pending_);
   for (const auto& p : pending_) queued += heap_bytes(p.h) + heap_bytes(p.v);
+  int64_t window = heap_bytes(cloud_window_);
+  for (const auto& c : cloud_window_) window += heap_bytes(c.p_W);
   MemoryParts parts = {{"truth", heap_bytes(truth_)},
                        {"dead_reckoning", dr_.memory_bytes()},
                        {"ping_queue", queued},
-                       {"keyframe_clouds", slam_.cloud_bytes()},
+                       {"keyframe_clouds", slam_.cloud_bytes() + window},
                        {"pose_graph", slam_.graph_bytes()}};
   for (const auto& s : systems_) parts.emplace_back("map:" + s->name(), s->memory_bytes());
   return parts;

@@ -33,20 +33,33 @@ SonarPing ping(SonarMount mount, Time t, uint32_t id) {
   return p;
 }
 
+// The DVL (0.5 m/s along x) and depth (2 m) readings at t, and a level IMU at 50 Hz.
+void add_dvl_and_depth(Time t, std::vector<Payload>& payloads) {
+  DvlReading d;
+  d.stamp = t;
+  d.velocity_V_mps = Vec3(0.5, 0, 0);
+  payloads.push_back(d);
+  DepthReading z;
+  z.stamp = t;
+  z.depth_m = 2.0;
+  payloads.push_back(z);
+}
+
+void add_imu(int seconds, std::vector<Payload>& payloads) {
+  for (int i = 0; i <= seconds * 50; ++i) {
+    ImuReading r;
+    r.stamp = Time::from_ms(20 * i);
+    payloads.push_back(r);
+  }
+}
+
 std::vector<Event> mission(bool with_truth, int seconds) {
   std::vector<Payload> payloads;
   for (int i = 0; i <= seconds * 5; ++i) {
     const Time t = Time::from_ms(200 * i);
     payloads.push_back(ping(SonarMount::kHorizontal, t, static_cast<uint32_t>(i)));
     payloads.push_back(ping(SonarMount::kVertical, t + Time::from_ms(3), static_cast<uint32_t>(i)));
-    DvlReading d;
-    d.stamp = t;
-    d.velocity_V_mps = Vec3(0.5, 0, 0);
-    payloads.push_back(d);
-    DepthReading z;
-    z.stamp = t;
-    z.depth_m = 2.0;
-    payloads.push_back(z);
+    add_dvl_and_depth(t, payloads);
     if (with_truth) {
       TruthPose tp;
       tp.stamp = t;
@@ -54,11 +67,7 @@ std::vector<Event> mission(bool with_truth, int seconds) {
       payloads.push_back(tp);
     }
   }
-  for (int i = 0; i <= seconds * 50; ++i) {
-    ImuReading r;
-    r.stamp = Time::from_ms(20 * i);
-    payloads.push_back(r);
-  }
+  add_imu(seconds, payloads);
   return hal::make_events(payloads);
 }
 
@@ -209,4 +218,135 @@ TEST_CASE("pipeline keeps DR states only as far back as it can still look up, wi
   }
   CHECK(p.counts().pairs == seconds * 5 + 1);
   CHECK(p.counts().pairs_without_dr == 0);
+}
+
+namespace {
+
+// Point targets fixed in the world, seen by a horizontal sonar on a vehicle driving along +x
+// at 0.5 m/s (DR and truth agree): target i shows only in the pings whose number is i mod 4,
+// so one ping sees a quarter of them and the pings between two keyframes see them all.
+std::vector<Event> flashing_targets_mission(int seconds, std::vector<Vec3>& targets_W) {
+  targets_W.clear();
+  for (int i = 0; i < 24; ++i) targets_W.emplace_back(2.0 + 0.75 * i, i % 2 == 0 ? 3.0 : -3.0, -2.0);
+  const SE3 T_V_h = perception::default_T_V_h();
+  std::vector<Payload> payloads;
+  for (int k = 0; k <= seconds * 5; ++k) {
+    const Time t = Time::from_ms(200 * k);
+    const SE3 T_W_V = se3_from_xyz_rpy(0.5 * t.seconds(), 0, -2, 0, 0, 0);
+    SonarPing h = ping(SonarMount::kHorizontal, t, static_cast<uint32_t>(k));
+    h.cols = 256;  // 0.5° beams: a 4-beam blob is 0.14 m wide at the 8 m range
+    h.bearings_rad.clear();
+    for (int c = 0; c < h.cols; ++c) h.bearings_rad.push_back((-65.0 + 130.0 * (c + 0.5) / h.cols) * M_PI / 180.0);
+    h.image.assign(static_cast<size_t>(h.rows) * h.cols, 10);
+    for (size_t i = 0; i < targets_W.size(); ++i) {
+      if (static_cast<int>(i % 4) != k % 4) continue;
+      const Vec3 p_h = (T_W_V * T_V_h).inverse() * targets_W[i];
+      const double range = p_h.norm(), bearing = std::atan2(p_h.y(), p_h.x());
+      const int row = static_cast<int>(std::lround(range / h.range_resolution_m)) - 1;
+      const auto beam = std::min_element(h.bearings_rad.begin(), h.bearings_rad.end(), [&](double a, double b) {
+        return std::abs(a - bearing) < std::abs(b - bearing);
+      });
+      const int col = static_cast<int>(beam - h.bearings_rad.begin());
+      if (row < 2 || row > h.rows - 3 || std::abs(h.bearings_rad[static_cast<size_t>(col)] - bearing) > 0.01) continue;
+      for (int r = row - 1; r <= row + 2; ++r)
+        for (int c = std::max(0, col - 1); c <= std::min(h.cols - 1, col + 2); ++c)
+          h.image[static_cast<size_t>(r) * h.cols + static_cast<size_t>(c)] = 220;
+    }
+    payloads.push_back(h);
+    payloads.push_back(ping(SonarMount::kVertical, t + Time::from_ms(3), static_cast<uint32_t>(k)));
+    add_dvl_and_depth(t, payloads);
+  }
+  add_imu(seconds, payloads);
+  return hal::make_events(payloads);
+}
+
+// The keyframes' prepared clouds with keyframe_cloud_s = window_s (voxels of 5 cm, no
+// outlier removal: every detection blob is kept).
+std::vector<slam::Keyframe> keyframes_with_window(const std::vector<Event>& events, double window_s,
+                                                  bool always = true, size_t ssm_min_points = 25) {
+  PipelineConfig cfg;
+  cfg.slam.kf_distance_m = 2.0;  // a keyframe every 4 s, 20 pairs
+  cfg.slam.keyframe_cloud_s = window_s;
+  cfg.slam.keyframe_cloud_always = always;
+  cfg.slam.ssm_min_points = ssm_min_points;
+  cfg.slam.voxel_m = 0.05;
+  cfg.slam.outlier_min_neighbours = 0;
+  Pipeline p(cfg);
+  for (const auto& e : events) p.consume(e);
+  p.finish();
+  return p.slam().keyframes();
+}
+
+// How many of the targets have a cloud point within 0.3 m of them, the cloud placed at the
+// keyframe's DR pose; and the largest distance of a cloud point from its nearest target.
+std::pair<size_t, double> targets_seen(const slam::Keyframe& kf, const std::vector<Vec3>& targets_W) {
+  std::vector<bool> seen(targets_W.size(), false);
+  double worst = 0.0;
+  for (const Eigen::Vector2d& q : kf.cloud_V) {
+    const Vec3 p_W = kf.T_W_V_dr * Vec3(q.x(), q.y(), 0.0);
+    double nearest = 1e9;
+    for (size_t i = 0; i < targets_W.size(); ++i) {
+      const double d = (p_W.head<2>() - targets_W[i].head<2>()).norm();
+      nearest = std::min(nearest, d);
+      if (d < 0.3) seen[i] = true;
+    }
+    worst = std::max(worst, nearest);
+  }
+  return {static_cast<size_t>(std::count(seen.begin(), seen.end(), true)), worst};
+}
+
+}  // namespace
+
+TEST_CASE("slam.keyframe_cloud_s gathers the pairs since the previous keyframe into its cloud, placed by DR",
+          "[unit]") {
+  std::vector<Vec3> targets_W;
+  const auto events = flashing_targets_mission(24, targets_W);
+  const std::vector<slam::Keyframe> own = keyframes_with_window(events, 0.0);
+  const std::vector<slam::Keyframe> interval = keyframes_with_window(events, 30.0);
+  const std::vector<slam::Keyframe> short_window = keyframes_with_window(events, 0.5);
+  REQUIRE(own.size() >= 5);
+  REQUIRE(interval.size() == own.size());
+  REQUIRE(short_window.size() == own.size());
+  size_t compared = 0;
+  for (size_t k = 1; k < own.size(); ++k) {
+    const auto [n_own, worst_own] = targets_seen(own[k], targets_W);
+    const auto [n_interval, worst_interval] = targets_seen(interval[k], targets_W);
+    const auto [n_short, worst_short] = targets_seen(short_window[k], targets_W);
+    INFO("keyframe " << k << ": targets in its cloud, own pair " << n_own << ", 0.5 s " << n_short << ", interval "
+                     << n_interval << "; farthest point from a target " << worst_own << ", " << worst_short << ", "
+                     << worst_interval << " m");
+    // Every point of every cloud lies on a target: the earlier pairs are placed by DR.
+    CHECK(worst_own < 0.3);
+    CHECK(worst_interval < 0.3);
+    CHECK(worst_short < 0.3);
+    if (n_own == 0) continue;
+    ++compared;
+    // One pair sees a quarter of the targets in view; the 20 pairs since the previous
+    // keyframe see every one of them; 0.5 s holds three pairs.
+    CHECK(n_interval >= 3 * n_own);
+    CHECK(n_short > n_own);
+    CHECK(n_short < n_interval);
+    // The keyframe's own pair is in its cloud whatever the window.
+    CHECK(own[k].cloud_V.size() < interval[k].cloud_V.size());
+  }
+  CHECK(compared >= 3);
+  // The first keyframe's cloud has only its own pair: nothing came before it.
+  CHECK(own[0].cloud_V.size() == interval[0].cloud_V.size());
+
+  // Not always: the gathered cloud only where the own pair's is too small to match. Every
+  // keyframe's own prepared cloud here is a few blobs of 5 cm voxels.
+  size_t own_max = 0, own_min = SIZE_MAX;
+  for (size_t k = 1; k < own.size(); ++k) {
+    own_max = std::max(own_max, own[k].cloud_V.size());
+    own_min = std::min(own_min, own[k].cloud_V.size());
+  }
+  REQUIRE(own_min > 0);
+  const std::vector<slam::Keyframe> sparse = keyframes_with_window(events, 30.0, false, own_max + 1);
+  const std::vector<slam::Keyframe> dense = keyframes_with_window(events, 30.0, false, own_min);
+  REQUIRE(sparse.size() == own.size());
+  REQUIRE(dense.size() == own.size());
+  for (size_t k = 0; k < own.size(); ++k) {
+    CHECK(sparse[k].cloud_V.size() == interval[k].cloud_V.size());  // every own cloud too small
+    CHECK(dense[k].cloud_V.size() == own[k].cloud_V.size());        // every own cloud enough
+  }
 }

@@ -26,6 +26,16 @@ struct SlamConfig {
   double kf_distance_m = 3.0;
   double kf_rotation_deg = 30.0;
   // Planar cloud.
+  // Addition (docs/SLAM.md "Keyframe clouds over the interval", issue 34): 0 = a keyframe's
+  // cloud is its own pair's horizontal detections (SPEC §5). > 0: a keyframe's cloud may
+  // gather the horizontal detections of every pair after the previous keyframe's and at most
+  // this many seconds before it, each placed in the keyframe's frame by dead reckoning (a
+  // thin or sparse structure gives a single pair too few points for scan matching).
+  double keyframe_cloud_s = 0.0;
+  // With keyframe_cloud_s > 0: false = the gathered cloud only for a keyframe whose own
+  // pair's prepared cloud has fewer than ssm_min_points points (too few for a scan match),
+  // its own pair's otherwise; true = the gathered cloud for every keyframe.
+  bool keyframe_cloud_always = false;
   double voxel_m = 0.5;
   double outlier_radius_m = 1.0;
   // SPEC §5 says >= 5; pilings are 1-3 voxels of 0.5 m, so 5 removes every piling and SSM
