@@ -163,10 +163,9 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
   if (observer_) observer_(p.h, p.v, fused);
   const SE3& T_W_V = *pose;
   if (config_.slam.keyframe_cloud_s > 0.0) {
-    CloudPair c{stamp, {}};
-    c.p_W = perception::points_V_at_elevation(p.h, fused.detections_h, config_.fusion.T_V_h, 0.0);
-    for (Eigen::Vector3d& q : c.p_W) q = T_W_V * q;
-    cloud_window_.push_back(std::move(c));
+    // Kept in the pair's own frame: placed by DR only if a keyframe gathers it.
+    cloud_window_.push_back(
+        {stamp, T_W_V, perception::points_V_at_elevation(p.h, fused.detections_h, config_.fusion.T_V_h, 0.0)});
     const Time oldest = stamp - Time::from_seconds(config_.slam.keyframe_cloud_s);
     while (cloud_window_.front().stamp < oldest) cloud_window_.pop_front();
   }
@@ -196,9 +195,13 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
 
 std::vector<Eigen::Vector2d> Pipeline::keyframe_cloud_V(const SE3& T_W_V, const SonarPing& h,
                                                       const perception::FusionResult& fused) {
-  std::vector<Eigen::Vector2d> own = perception::planar_points_V(h, fused.detections_h, config_.fusion.T_V_h);
   const slam::SlamConfig& s = config_.slam;
-  if (s.keyframe_cloud_s <= 0.0) return own;
+  if (s.keyframe_cloud_s <= 0.0) return perception::planar_points_V(h, fused.detections_h, config_.fusion.T_V_h);
+  // process_fused has just added this pair to the window: its points are the keyframe's own
+  // (x, y of them: planar_points_V's cloud).
+  std::vector<Eigen::Vector2d> own;
+  own.reserve(cloud_window_.back().p_V.size());
+  for (const Eigen::Vector3d& q : cloud_window_.back().p_V) own.emplace_back(q.x(), q.y());
   if (!s.keyframe_cloud_always &&
       slam::prepare_planar_cloud(own, {s.voxel_m, s.outlier_radius_m, s.outlier_min_neighbours}).size() >=
           s.ssm_min_points) {
@@ -206,16 +209,18 @@ std::vector<Eigen::Vector2d> Pipeline::keyframe_cloud_V(const SE3& T_W_V, const 
     return own;
   }
   // The window holds this pair and the earlier ones since the previous keyframe: each
-  // detection back in this keyframe's frame V, by DR, as x, y (the SPEC's planar cloud).
+  // detection to the world by its pair's DR pose, back into this keyframe's frame V, as
+  // x, y (the SPEC's planar cloud).
   const SE3 T_V_W = T_W_V.inverse();
   std::vector<Eigen::Vector2d> out;
   size_t n = 0;
-  for (const CloudPair& c : cloud_window_) n += c.p_W.size();
+  for (const CloudPair& c : cloud_window_) n += c.p_V.size();
   out.reserve(n);
   for (const CloudPair& c : cloud_window_)
-    for (const Eigen::Vector3d& q : c.p_W) {
-      const Eigen::Vector3d p_V = T_V_W * q;
-      out.emplace_back(p_V.x(), p_V.y());
+    for (const Eigen::Vector3d& q : c.p_V) {
+      const Eigen::Vector3d p_W = c.T_W_V * q;
+      const Eigen::Vector3d p_K = T_V_W * p_W;
+      out.emplace_back(p_K.x(), p_K.y());
     }
   cloud_window_.clear();
   return out;
@@ -242,7 +247,7 @@ MemoryParts Pipeline::memory() const {
   int64_t queued = pairer_.memory_bytes() + heap_bytes(pending_);
   for (const auto& p : pending_) queued += heap_bytes(p.h) + heap_bytes(p.v);
   int64_t window = heap_bytes(cloud_window_);
-  for (const auto& c : cloud_window_) window += heap_bytes(c.p_W);
+  for (const auto& c : cloud_window_) window += heap_bytes(c.p_V);
   MemoryParts parts = {{"truth", heap_bytes(truth_)},
                        {"dead_reckoning", dr_.memory_bytes()},
                        {"ping_queue", queued},

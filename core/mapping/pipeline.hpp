@@ -130,11 +130,12 @@ class Pipeline {
   PairObserver observer_;
   std::function<void(const TruthPose&)> truth_observer_;
   std::deque<PendingPair> pending_;
-  // slam.keyframe_cloud_s > 0: the horizontal detections (world frame, by DR) of the pairs
-  // since the previous keyframe, the next keyframe's cloud.
+  // slam.keyframe_cloud_s > 0: the horizontal detections (in V, elevation 0) and DR pose of
+  // the pairs since the previous keyframe, the next keyframe's cloud.
   struct CloudPair {
     Time stamp;
-    std::vector<Eigen::Vector3d> p_W;
+    SE3 T_W_V;
+    std::vector<Eigen::Vector3d> p_V;
   };
   std::deque<CloudPair> cloud_window_;
   std::vector<Eigen::Vector2d> keyframe_cloud_V(const SE3& T_W_V, const SonarPing& h,
