@@ -95,7 +95,8 @@ void print_measured(const MeasuredProfile& r) {
   }
   const mapping::FusionTally& f = m.fusion;
   const mapping::FusionFigures ff = mapping::fusion_figures(f.err);
-  std::printf("  subproblems %zu, matches %zu, culled by confidence %zu\n", f.subproblems, f.matches, f.culled);
+  std::printf("  subproblems %zu, matches %zu, culled by confidence %zu, elevation from a sloped face's run %zu\n",
+              f.subproblems, f.matches, f.culled, f.sloped_face);
   std::printf("  fused %zu of %zu pairs: %zu points (%.1f/pair), distance to mesh with true poses: median %.3f p90 %.3f "
               "MAE %.3f RMSE %.3f, within 0.1 m %.3f\n",
               f.fused, f.pairs, f.err.size(), ratio(d(f.err.size()), d(f.fused)), ff.median, ff.p90, ff.mae, ff.rmse,

@@ -152,6 +152,7 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
     f.subproblems += r.subproblems;
     f.matches += r.matches;
     f.culled += r.culled_low_confidence;
+    f.sloped_face += r.sloped_face;
     tally_image(h, lh->second, r.detections_h, overlap_rad_, out_.h);
     tally_image(v, lv->second, r.detections_v, overlap_rad_, out_.v);
     const int bound_steps = static_cast<int>(std::floor(overlap_rad_ / kBoundStepRad));  // the elevation grid's half width

@@ -42,6 +42,7 @@ void tally_image(const SonarPing& ping, const std::vector<uint8_t>& semantic,
 
 struct FusionTally {
   size_t pairs = 0, fused = 0, subproblems = 0, matches = 0, culled = 0;
+  size_t sloped_face = 0;  // points whose elevation came from their h run (FusionConfig::slope_run_ratio)
   std::vector<double> err;   // distance of each fused point to the mesh, true pose
   // In err's order: the angle (deg) of the nearest mesh surface from vertical (0 a wall, 90
   // a flat bottom): the error split by surface slope (issue 34).

@@ -160,6 +160,7 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
   counts_.matches += static_cast<int64_t>(fused.matches);
   counts_.culled_low_confidence += static_cast<int64_t>(fused.culled_low_confidence);
   counts_.fused_points += static_cast<int64_t>(fused.points.size());
+  counts_.fused_sloped_face += static_cast<int64_t>(fused.sloped_face);
   if (observer_) observer_(p.h, p.v, fused);
   const SE3& T_W_V = *pose;
   if (config_.slam.keyframe_cloud_s > 0.0) {

@@ -55,6 +55,7 @@ struct PipelineCounts {
   int64_t pairs_without_dr = 0;   // pairs outside the DR span (dropped)
   int64_t detections_h = 0, detections_v = 0;
   int64_t matches = 0, culled_low_confidence = 0, fused_points = 0;
+  int64_t fused_sloped_face = 0;  // fused points whose elevation came from their h run
   int64_t keyframes = 0;
   int64_t loop_closures = 0;      // accepted
 };

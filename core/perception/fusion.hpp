@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/events.hpp"
@@ -44,6 +45,19 @@ struct FusionConfig {
   // speckle clusters that pass CFAR and the neighbour filter. 0 = off.
   double noise_floor_factor = 3.0;
   int noise_floor_rows = 5;
+  // Addition (issue 34; docs/PERCEPTION.md "Sloped faces"): an h return whose bright run
+  // along its beam is at least slope_run_ratio times as long as a vertical wall facing the
+  // sonar would give across the elevation aperture (R (1/cos a - 1), a = overlap_deg, the h
+  // sonar's half-aperture) comes from a face sloped well away from vertical that fills the
+  // aperture (8: a plane more than about 19 degrees from vertical). Its elevation is then where
+  // along the run its range lies, linearly, the near end at -a (a face rising away from the
+  // sonar: mounds, revetments, the seabed), not the v return's: on such a face the v return
+  // of the same range comes from another part of the face. 0 = off: Eq. 6 for every point.
+  double slope_run_ratio = 8.0;
+  // The run: the rows of the return's beam, on both sides of it, at least slope_run_floor of
+  // its intensity and above the noise-floor gate, bridging gaps of up to slope_run_max_gap rows.
+  double slope_run_floor = 0.25;
+  int slope_run_max_gap = 2;
   SE3 T_V_h = default_T_V_h();
   SE3 T_V_v = default_T_V_v();
   // SPEC CFAR with the isolated-speckle filter on (3 of 8 neighbours) against the field
@@ -59,6 +73,11 @@ struct FusedPoint {
   float intensity_h = 0;    // normalised [0, 1]
   float intensity_v = 0;    // normalised [0, 1]
   float confidence = 0;     // Eq. 6
+  // Where φ came from: the v return (Eq. 6), or the h return's run on a sloped face
+  // (FusionConfig::slope_run_ratio), with the run's ends in range.
+  enum class Elevation : uint8_t { v_return = 0, sloped_face = 1 };
+  Elevation elevation_from = Elevation::v_return;
+  float run_near_m = 0, run_far_m = 0;  // the h return's run (both 0 when not measured)
   // The v candidates of this point's range bin (the alternatives Eq. 6 chose among):
   // FusionResult::bin_elevations_rad[bin_first, bin_first + bin_count). For diagnosis
   // (perception-check's association bound, issue 34); nothing downstream reads them, and
@@ -79,9 +98,16 @@ struct FusionResult {
   size_t subproblems = 0;                     // range bins with candidates on both sides
   size_t matches = 0;                         // assigned pairs before the confidence cull
   size_t culled_low_confidence = 0;           // matches dropped by min_confidence
+  size_t sloped_face = 0;                     // points whose φ came from their h run
 };
 
 FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfig& config);
+
+// The elevation of range `range_m` on a sloped face whose run along one beam spans
+// [near_m, far_m]: the near end at -half_aperture_rad, the far end at +half_aperture_rad (a
+// face rising away from the sonar), linear in range between them, clamped to the run.
+// nullopt when far_m <= near_m.
+std::optional<double> sloped_face_elevation(double near_m, double far_m, double range_m, double half_aperture_rad);
 
 // Median intensity of each row (the lower median; raw image units), computed on demand and
 // kept: the local noise floor of the fusion gate. Exposed for tests.

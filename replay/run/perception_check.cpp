@@ -83,6 +83,7 @@ json measured_json(const MeasuredProfile& r) {
             {"subproblems", f.subproblems},
             {"matches", f.matches},
             {"culled_low_confidence", f.culled},
+            {"sloped_face", f.sloped_face},
             {"distance_to_mesh_m",
              {{"median", num(ff.median)}, {"p90", num(ff.p90)}, {"mae", num(ff.mae)}, {"rmse", num(ff.rmse)}},
             },

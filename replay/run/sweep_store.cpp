@@ -183,7 +183,8 @@ std::vector<perception::Detection> get_detections(Reader& r) {
 // The float members of a fused point after p_V, each written as a column.
 constexpr float perception::FusedPoint::*kPointFloats[] = {
     &perception::FusedPoint::range_m,     &perception::FusedPoint::bearing_rad, &perception::FusedPoint::elevation_rad,
-    &perception::FusedPoint::intensity_h, &perception::FusedPoint::intensity_v, &perception::FusedPoint::confidence};
+    &perception::FusedPoint::intensity_h, &perception::FusedPoint::intensity_v, &perception::FusedPoint::confidence,
+    &perception::FusedPoint::run_near_m,  &perception::FusedPoint::run_far_m};
 
 struct CCtxFree {
   void operator()(ZSTD_CCtx* c) const { ZSTD_freeCCtx(c); }
@@ -193,13 +194,14 @@ struct CCtxFree {
 
 std::vector<uint8_t> serialise_fusion(const perception::FusionResult& r) {
   Writer w;
-  for (const size_t v : {r.candidates_h, r.candidates_v, r.subproblems, r.matches, r.culled_low_confidence})
+  for (const size_t v : {r.candidates_h, r.candidates_v, r.subproblems, r.matches, r.culled_low_confidence, r.sloped_face})
     w.put<uint64_t>(v);
   w.put<uint64_t>(r.points.size());
   for (int k = 0; k < 3; ++k)
     for (const auto& p : r.points) w.put<float>(p.p_V[k]);
   for (float perception::FusedPoint::*f : kPointFloats)
     for (const auto& p : r.points) w.put<float>(p.*f);
+  for (const auto& p : r.points) w.put<uint8_t>(static_cast<uint8_t>(p.elevation_from));
   put_detections(w, r.detections_h);
   put_detections(w, r.detections_v);
   return std::move(w.out);
@@ -208,13 +210,19 @@ std::vector<uint8_t> serialise_fusion(const perception::FusionResult& r) {
 perception::FusionResult deserialise_fusion(const std::vector<uint8_t>& bytes) {
   Reader rd(bytes);
   perception::FusionResult r;
-  for (size_t* v : {&r.candidates_h, &r.candidates_v, &r.subproblems, &r.matches, &r.culled_low_confidence})
+  for (size_t* v : {&r.candidates_h, &r.candidates_v, &r.subproblems, &r.matches, &r.culled_low_confidence, &r.sloped_face})
     *v = static_cast<size_t>(rd.get<uint64_t>());
   r.points.resize(static_cast<size_t>(rd.get<uint64_t>()));
   for (int k = 0; k < 3; ++k)
     for (auto& p : r.points) p.p_V[k] = rd.get<float>();
   for (float perception::FusedPoint::*f : kPointFloats)
     for (auto& p : r.points) p.*f = rd.get<float>();
+  for (auto& p : r.points) {
+    const auto from = rd.get<uint8_t>();
+    if (from > static_cast<uint8_t>(perception::FusedPoint::Elevation::sloped_face))
+      throw std::runtime_error("sweep fusion cache: a cached point's elevation source is " + std::to_string(from));
+    p.elevation_from = static_cast<perception::FusedPoint::Elevation>(from);
+  }
   r.detections_h = get_detections(rd);
   r.detections_v = get_detections(rd);
   if (!rd.done()) throw std::runtime_error("sweep fusion cache: a cached result has bytes past its end");

@@ -80,6 +80,7 @@ perception::FusionResult store_test_fusion(uint32_t seed) {
   r.subproblems = rng() % 100;
   r.matches = rng() % 100;
   r.culled_low_confidence = rng() % 10;
+  r.sloped_face = rng() % 10;
   for (size_t i = rng() % 50; i > 0; --i) {
     perception::FusedPoint p;
     p.p_V = Eigen::Vector3f(u(rng), u(rng), u(rng));
@@ -89,6 +90,9 @@ perception::FusionResult store_test_fusion(uint32_t seed) {
     p.intensity_h = u(rng);
     p.intensity_v = std::numeric_limits<float>::denorm_min();
     p.confidence = -0.0f;
+    p.run_near_m = u(rng);
+    p.run_far_m = u(rng);
+    p.elevation_from = rng() % 2 ? perception::FusedPoint::Elevation::sloped_face : perception::FusedPoint::Elevation::v_return;
     r.points.push_back(p);
   }
   int row = 0;
@@ -109,6 +113,7 @@ void check_same_fusion(const perception::FusionResult& a, const perception::Fusi
   CHECK(a.subproblems == b.subproblems);
   CHECK(a.matches == b.matches);
   CHECK(a.culled_low_confidence == b.culled_low_confidence);
+  CHECK(a.sloped_face == b.sloped_face);
   REQUIRE(a.points.size() == b.points.size());
   for (size_t i = 0; i < a.points.size(); ++i) {
     const auto &p = a.points[i], &q = b.points[i];
@@ -118,6 +123,9 @@ void check_same_fusion(const perception::FusionResult& a, const perception::Fusi
     CHECK(store_same_bits(p.elevation_rad, q.elevation_rad));
     CHECK(store_same_bits(p.intensity_h, q.intensity_h));
     CHECK(store_same_bits(p.intensity_v, q.intensity_v));
+    CHECK(store_same_bits(p.run_near_m, q.run_near_m));
+    CHECK(store_same_bits(p.run_far_m, q.run_far_m));
+    CHECK(p.elevation_from == q.elevation_from);
     CHECK(store_same_bits(p.confidence, q.confidence));
   }
   for (const auto& [da, db] : {std::pair{&a.detections_h, &b.detections_h}, std::pair{&a.detections_v, &b.detections_v}}) {
