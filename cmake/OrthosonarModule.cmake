@@ -160,6 +160,8 @@ function(orthosonar_finish_bench)
   get_property(libs GLOBAL PROPERTY ORTHOSONAR_BENCH_LIBS)
   add_executable(orthosonar_bench ${PROJECT_SOURCE_DIR}/tools/bench_main.cpp ${srcs})
   target_link_libraries(orthosonar_bench PRIVATE ${libs} benchmark::benchmark)
+  # Benchmarks on the example user scenes (docs/examples) read them from the source tree.
+  target_compile_definitions(orthosonar_bench PRIVATE ORTHOSONAR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   orthosonar_warnings(orthosonar_bench)
 endfunction()
 

@@ -300,7 +300,21 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
         fp.run_near_m = static_cast<float>(near);
         fp.run_far_m = static_cast<float>(far);
         const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
-        if (far - near >= config.slope_run_ratio * wall) {
+        bool spans = far - near >= config.slope_run_ratio * wall;
+        if (spans && config.slope_v_span_deg > 0.0) {
+          // The v image must see the face across its elevation fan over the run's ranges.
+          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+          const auto first = std::lower_bound(res.detections_v.begin(), res.detections_v.end(), near,
+                                              [&](const Detection& d, double r) { return v.range_of_row(d.row) < r; });
+          for (auto it = first; it != res.detections_v.end() && v.range_of_row(it->row) <= far; ++it) {
+            const double e = v.bearings_rad[static_cast<size_t>(it->col)];
+            if (std::abs(e) > lim) continue;
+            lo = std::min(lo, e);
+            hi = std::max(hi, e);
+          }
+          spans = hi - lo >= config.slope_v_span_deg * kDeg;
+        }
+        if (spans) {
           if (const auto e = sloped_face_elevation(near, far, h.range_of_row(a.row), lim)) {
             phi = *e;
             fp.elevation_from = FusedPoint::Elevation::sloped_face;

@@ -58,6 +58,11 @@ struct FusionConfig {
   // its intensity and above the noise-floor gate, bridging gaps of up to slope_run_max_gap rows.
   double slope_run_floor = 0.25;
   int slope_run_max_gap = 2;
+  // ... and only if the v image's detections in the overlap over the run's ranges span at
+  // least this much elevation: a face that fills the h sonar's elevation aperture fills the v
+  // sonar's fan over the same ranges (an object seen in the lower half of the aperture only,
+  // or the seabed, does not). 0 = no such check.
+  double slope_v_span_deg = 10.0;
   SE3 T_V_h = default_T_V_h();
   SE3 T_V_v = default_T_V_v();
   // SPEC CFAR with the isolated-speckle filter on (3 of 8 neighbours) against the field

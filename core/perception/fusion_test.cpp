@@ -302,6 +302,7 @@ TEST_CASE("sloped_face_elevation: the run's near end at -a, its far end at +a, l
 }
 
 TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elevation from the run", "[unit]") {
+  // (slope_v_span_deg, the v image's check, is off until the last section.)
   // h: a run of 60 rows (3 m) in one beam at 4-7 m with a brighter return in its middle;
   // v: one return at the same range, 5 degrees up. A wall facing the sonar would give a run of
   // R (1/cos 10° - 1) = 0.09 m here, so this is a sloped face filling the aperture.
@@ -314,6 +315,7 @@ TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elev
   cfg.min_confidence = 0.0;
   cfg.cfar_h.min_neighbours = cfg.cfar_v.min_neighbours = 0;
   cfg.slope_run_floor = 0.2;  // the run (60) is above 0.2 x 250, the return
+  cfg.slope_v_span_deg = 0.0;  // checked at the end
   auto fuse_with_run = [&](int r0, int r1) {
     SonarPing hh = h;
     for (int r = r0; r <= r1; ++r) put(hh, r, col, 60);
@@ -363,4 +365,19 @@ TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elev
   const FusionResult cut = fuse_pair(gapped, v, cfg);
   REQUIRE(cut.points.size() == 1);
   CHECK(cut.points[0].run_near_m == Approx(h.range_of_row(97)));
+
+  // slope_v_span_deg: the v image must see the face across its fan over the run's ranges.
+  // With only the one v return (no span), Eq. 6; with v returns 8 degrees down near the run's
+  // near end and 8 degrees up near its far end (16 degrees >= 10), the run's elevation.
+  cfg.slope_run_max_gap = 2;
+  cfg.slope_v_span_deg = 10.0;
+  const FusionResult lone = fuse_with_run(near_row, far_row);
+  REQUIRE(lone.points.size() == 1);
+  CHECK(lone.sloped_face == 0);
+  put(v, 100, nearest_col(v, -8.0 * kDeg), 250);
+  put(v, 120, nearest_col(v, 8.0 * kDeg), 250);
+  const FusionResult seen = fuse_with_run(near_row, far_row);
+  REQUIRE(seen.points.size() == 1);
+  CHECK(seen.sloped_face == 1);
+  CHECK(seen.points[0].elevation_rad == Approx(expected).margin(1e-6));
 }

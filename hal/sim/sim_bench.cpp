@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <utility>
+#include <string>
 #include <vector>
 
 #include "core/perception/fusion.hpp"
@@ -60,10 +61,9 @@ void BM_SimReducedHarbor60s(benchmark::State& state) {
 BENCHMARK(BM_SimReducedHarbor60s)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 // Fusion of one full-resolution pair (both CFARs + association, SPEC defaults) on pings the
-// simulator rendered along the harbor route (one pair every 15 s of a 300 s mission): the
+// simulator rendered along a scene's route (one pair every 15 s of a 300 s mission): the
 // realistic counterpart of core/perception's synthetic BM_FusePair512x600.
-void BM_FuseSimulatedPairHarbor(benchmark::State& state) {
-  const Scene scene = *builtin_scene("harbor", 1);
+void fuse_simulated_pairs(benchmark::State& state, const Scene& scene) {
   SimConfig cfg;
   const SonarRenderer renderer(scene.mesh, cfg.sonar, Resolution::kFull, 1);
   const Trajectory traj(scene.route, scene.vehicle_depth_m, cfg.vehicle, Time::from_s(300));
@@ -77,19 +77,35 @@ void BM_FuseSimulatedPairHarbor(benchmark::State& state) {
   perception::FusionConfig fc;
   fc.T_V_h = cfg.T_V_h;
   fc.T_V_v = cfg.T_V_v;
-  size_t i = 0, det = 0, points = 0;
+  size_t i = 0, det = 0, points = 0, sloped = 0;
   for (auto _ : state) {
     const auto& [h, v] = pairs[i++ % pairs.size()];
     const perception::FusionResult r = perception::fuse_pair(h, v, fc);
     det += r.detections_h.size() + r.detections_v.size();
     points += r.points.size();
+    sloped += r.sloped_face;
     benchmark::DoNotOptimize(r.points.data());
   }
   const double n = static_cast<double>(std::max<size_t>(i, 1));
   state.counters["detections_per_pair"] = static_cast<double>(det) / n;
   state.counters["points_per_pair"] = static_cast<double>(points) / n;
+  state.counters["sloped_face_per_pair"] = static_cast<double>(sloped) / n;
 }
+
+void BM_FuseSimulatedPairHarbor(benchmark::State& state) { fuse_simulated_pairs(state, *builtin_scene("harbor", 1)); }
 BENCHMARK(BM_FuseSimulatedPairHarbor)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+
+// The same on the example breakwater (docs/examples), whose sloped faces take the
+// sloped-face path (issue 34: a field pair <= 1.5 ms).
+void BM_FuseSimulatedPairBreakwater(benchmark::State& state) {
+  const auto scene = load_scene_file(std::string(ORTHOSONAR_SOURCE_DIR) + "/docs/examples/breakwater/breakwater.yaml");
+  if (!scene.ok()) {
+    state.SkipWithError(scene.error().message.c_str());
+    return;
+  }
+  fuse_simulated_pairs(state, *scene);
+}
+BENCHMARK(BM_FuseSimulatedPairBreakwater)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 
 }  // namespace
 }  // namespace orthosonar::sim
