@@ -306,7 +306,9 @@ TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elev
   // h: a run of 60 rows (3 m) in one beam at 4-7 m with a brighter return in its middle;
   // v: one return at the same range, 5 degrees up. A wall facing the sonar would give a run of
   // R (1/cos 10° - 1) = 0.09 m here, so this is a sloped face filling the aperture.
-  auto [h, v] = flat_pair();
+  auto hv = flat_pair();  // named, not a structured binding: the lambdas below use h and v
+  SonarPing& h = hv.first;
+  SonarPing& v = hv.second;
   const int col = 128, row = 110, near_row = 80, far_row = 140;
   auto put = [](SonarPing& p, int r, int c, uint8_t x) { p.image[static_cast<size_t>(r) * p.cols + static_cast<size_t>(c)] = x; };
   const int col_v = nearest_col(v, 5.0 * kDeg);
