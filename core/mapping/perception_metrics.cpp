@@ -177,7 +177,7 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
         f.bin_candidates_v.push_back(p.bin_count);
         if (f.keep_points)
           f.points.push_back({p_W.cast<float>(), p.range_m, p.bearing_rad, p.elevation_rad, p.confidence,
-                              h.stamp.seconds()});
+                              h.stamp.seconds(), p.elevation_from == perception::FusedPoint::Elevation::sloped_face});
       }
   }
   labels_.erase(labels_.begin(), labels_.upper_bound({0, h.ping_id}));

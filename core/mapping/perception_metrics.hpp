@@ -58,6 +58,7 @@ struct FusionTally {
     Eigen::Vector3f p_W;  // true-pose world position
     float range_m, bearing_rad, elevation_rad, confidence;
     double stamp_s;
+    bool sloped_face;  // elevation from the h return's run (FusedPoint::elevation_from)
   };
   std::vector<Point> points;
 };

@@ -301,9 +301,9 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
         fp.run_far_m = static_cast<float>(far);
         const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
         bool spans = far - near >= config.slope_run_ratio * wall;
-        if (spans && config.slope_v_span_deg > 0.0) {
-          // The v image must see the face across its elevation fan over the run's ranges.
-          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        // The elevations at which the v image sees anything in the overlap over the run's ranges.
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        if (spans) {
           const auto first = std::lower_bound(res.detections_v.begin(), res.detections_v.end(), near,
                                               [&](const Detection& d, double r) { return v.range_of_row(d.row) < r; });
           for (auto it = first; it != res.detections_v.end() && v.range_of_row(it->row) <= far; ++it) {
@@ -312,10 +312,15 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
             lo = std::min(lo, e);
             hi = std::max(hi, e);
           }
-          spans = hi - lo >= config.slope_v_span_deg * kDeg;
         }
+        // A face that fills the h sonar's aperture fills the v sonar's fan over the same ranges.
+        if (spans && config.slope_v_span_deg > 0.0) spans = hi - lo >= config.slope_v_span_deg * kDeg;
         if (spans) {
-          if (const auto e = sloped_face_elevation(near, far, h.range_of_row(a.row), lim)) {
+          std::optional<double> e = sloped_face_elevation(near, far, h.range_of_row(a.row), lim);
+          // No higher than the v image sees the face over the run: where the face ends inside the
+          // aperture (a crest at long range), the run's far end is that top, not +a.
+          if (e && config.slope_top_from_v && hi >= lo) e = std::min(*e, hi);
+          if (e) {
             phi = *e;
             fp.elevation_from = FusedPoint::Elevation::sloped_face;
             ++res.sloped_face;

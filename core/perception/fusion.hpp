@@ -63,6 +63,10 @@ struct FusionConfig {
   // sonar's fan over the same ranges (an object seen in the lower half of the aperture only,
   // or the seabed, does not). 0 = no such check.
   double slope_v_span_deg = 10.0;
+  // ... and no higher than the highest elevation at which the v image sees anything in the
+  // overlap over the run's ranges: where the face ends inside the aperture (a crest at long
+  // range), the run's far end is that top edge, not +a. false: the linear elevation as is.
+  bool slope_top_from_v = true;
   SE3 T_V_h = default_T_V_h();
   SE3 T_V_v = default_T_V_v();
   // SPEC CFAR with the isolated-speckle filter on (3 of 8 neighbours) against the field

@@ -383,3 +383,41 @@ TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elev
   CHECK(seen.sloped_face == 1);
   CHECK(seen.points[0].elevation_rad == Approx(expected).margin(1e-6));
 }
+
+TEST_CASE("slope_top_from_v: a run's elevation stays at or under the highest v detection over the run", "[unit]") {
+  // h: the 3 m run of the test above with its bright return near the far end (row 130: 6.7
+  // degrees up by the run); v: returns 8 degrees down at row 85, and the point's own return at
+  // row 130, 3 degrees up. The face is seen no higher than 3 degrees over the run: the point is
+  // clamped there. With a v return 8 degrees up at row 120, or the option off, it keeps 6.7.
+  auto hv = flat_pair();
+  SonarPing& h = hv.first;
+  SonarPing& v = hv.second;
+  auto put = [](SonarPing& p, int r, int c, uint8_t x) { p.image[static_cast<size_t>(r) * p.cols + static_cast<size_t>(c)] = x; };
+  const int col = 128, row = 130, near_row = 80, far_row = 140;
+  for (int r = near_row; r <= far_row; ++r) put(h, r, col, 60);
+  put(h, row, col, 250);
+  const int col_v = nearest_col(v, 3.0 * kDeg);
+  put(v, row, col_v, 250);
+  put(v, 85, nearest_col(v, -8.0 * kDeg), 250);
+  FusionConfig cfg;
+  cfg.min_confidence = 0.0;
+  cfg.cfar_h.min_neighbours = cfg.cfar_v.min_neighbours = 0;
+  cfg.slope_run_floor = 0.2;
+  const double a = cfg.overlap_deg * kDeg;
+  const double linear = -a + 2.0 * a * (h.range_of_row(row) - h.range_of_row(near_row)) /
+                                 (h.range_of_row(far_row) - h.range_of_row(near_row));
+  REQUIRE(linear > 6.0 * kDeg);
+  const FusionResult clamped = fuse_pair(h, v, cfg);
+  REQUIRE(clamped.points.size() == 1);
+  CHECK(clamped.sloped_face == 1);
+  CHECK(clamped.points[0].elevation_rad == Approx(v.bearings_rad[static_cast<size_t>(col_v)]));
+  cfg.slope_top_from_v = false;
+  const FusionResult as_run = fuse_pair(h, v, cfg);
+  REQUIRE(as_run.points.size() == 1);
+  CHECK(as_run.points[0].elevation_rad == Approx(linear).margin(1e-6));
+  cfg.slope_top_from_v = true;
+  put(v, 120, nearest_col(v, 8.0 * kDeg), 250);
+  const FusionResult higher = fuse_pair(h, v, cfg);
+  REQUIRE(higher.points.size() == 1);
+  CHECK(higher.points[0].elevation_rad == Approx(linear).margin(1e-6));
+}

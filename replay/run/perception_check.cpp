@@ -298,13 +298,13 @@ Status write_cloud(const std::string& path, const mapping::FusionTally& f) {
   std::vector<Eigen::Vector3f> xyz;
   std::vector<sim::PlyScalar> scalars = {{"distance_m", {}},    {"range_m", {}},    {"bearing_deg", {}},
                                          {"elevation_deg", {}}, {"confidence", {}}, {"stamp_s", {}},
-                                         {"surface_deg", {}}};
+                                         {"surface_deg", {}}, {"sloped_face", {}}};
   constexpr double kDeg = 180.0 / std::numbers::pi;
   for (size_t i = 0; i < f.points.size(); ++i) {
     const mapping::FusionTally::Point& p = f.points[i];
     xyz.push_back(p.p_W);
     const double values[] = {f.err[i],   p.range_m, p.bearing_rad * kDeg, p.elevation_rad * kDeg,
-                             p.confidence, p.stamp_s, f.surface_deg[i]};
+                             p.confidence, p.stamp_s, f.surface_deg[i], p.sloped_face ? 1.0 : 0.0};
     for (size_t k = 0; k < scalars.size(); ++k) scalars[k].values.push_back(static_cast<float>(values[k]));
   }
   return sim::write_ply_points(xyz, scalars, "orthosonar perception-check: fused points placed with the true pose",
