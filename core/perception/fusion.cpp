@@ -87,6 +87,50 @@ void rot90(const float* in, int side, float* out) {
     for (int b = 0; b < side; ++b) out[a * side + b] = in[b * side + (side - 1 - a)];
 }
 
+// Issue 34 (docs/PERCEPTION.md "Sloped faces"): the run of h return `a` along its beam,
+// recorded in fp.run_near_m / run_far_m, and the elevation it gives when the run is a sloped
+// face filling the aperture (FusionConfig::slope_run_ratio, slope_v_span_deg,
+// slope_top_from_v); nullopt otherwise. `range` is Eq. 3's, `lim` the half-aperture, `dets_v`
+// the v detections, row-major.
+std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v, const std::vector<Detection>& dets_v,
+                                         const Candidate& a, double range, double lim, RowMedians& medians_h,
+                                         const FusionConfig& config, FusedPoint& fp) {
+  const double floor = std::max(config.noise_floor_factor > 0.0
+                                    ? config.noise_floor_factor * medians_h.local_floor(a.row, config.noise_floor_rows)
+                                    : 0.0,
+                                config.slope_run_floor * a.intensity);
+  const int gap = std::max(0, config.slope_run_max_gap);
+  int r0 = a.row, r1 = a.row;
+  for (int r = a.row - 1, g = 0; r >= 0 && g <= gap; --r) {
+    if (h.at(r, a.col) >= floor) { r0 = r; g = 0; } else { ++g; }
+  }
+  for (int r = a.row + 1, g = 0; r < h.rows && g <= gap; ++r) {
+    if (h.at(r, a.col) >= floor) { r1 = r; g = 0; } else { ++g; }
+  }
+  const double near = h.range_of_row(r0), far = h.range_of_row(r1);
+  fp.run_near_m = static_cast<float>(near);
+  fp.run_far_m = static_cast<float>(far);
+  const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
+  if (far - near < config.slope_run_ratio * wall) return std::nullopt;
+  // The elevations at which the v image sees anything in the overlap over the run's ranges.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const auto first = std::lower_bound(dets_v.begin(), dets_v.end(), near,
+                                      [&](const Detection& d, double r) { return v.range_of_row(d.row) < r; });
+  for (auto it = first; it != dets_v.end() && v.range_of_row(it->row) <= far; ++it) {
+    const double e = v.bearings_rad[static_cast<size_t>(it->col)];
+    if (std::abs(e) > lim) continue;
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+  }
+  // A face that fills the h sonar's aperture fills the v sonar's fan over the same ranges.
+  if (config.slope_v_span_deg > 0.0 && !(hi - lo >= config.slope_v_span_deg * kDeg)) return std::nullopt;
+  std::optional<double> e = sloped_face_elevation(near, far, h.range_of_row(a.row), lim);
+  // No higher than the v image sees the face over the run: where the face ends inside the
+  // aperture (a crest at long range), the run's far end is that top, not +a.
+  if (e && config.slope_top_from_v && hi >= lo) e = std::min(*e, hi);
+  return e;
+}
+
 }  // namespace
 
 double RowMedians::operator()(int row) {
@@ -283,48 +327,10 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
       double phi = v.bearings_rad[static_cast<size_t>(b.col)];
       FusedPoint fp;
       if (config.slope_run_ratio > 0.0) {
-        // The h return's run along its beam (docs/PERCEPTION.md "Sloped faces").
-        const double floor = std::max(config.noise_floor_factor > 0.0
-                                          ? config.noise_floor_factor * medians_h.local_floor(a.row, config.noise_floor_rows)
-                                          : 0.0,
-                                      config.slope_run_floor * a.intensity);
-        const int gap = std::max(0, config.slope_run_max_gap);
-        int r0 = a.row, r1 = a.row;
-        for (int r = a.row - 1, g = 0; r >= 0 && g <= gap; --r) {
-          if (h.at(r, a.col) >= floor) { r0 = r; g = 0; } else { ++g; }
-        }
-        for (int r = a.row + 1, g = 0; r < h.rows && g <= gap; ++r) {
-          if (h.at(r, a.col) >= floor) { r1 = r; g = 0; } else { ++g; }
-        }
-        const double near = h.range_of_row(r0), far = h.range_of_row(r1);
-        fp.run_near_m = static_cast<float>(near);
-        fp.run_far_m = static_cast<float>(far);
-        const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
-        bool spans = far - near >= config.slope_run_ratio * wall;
-        // The elevations at which the v image sees anything in the overlap over the run's ranges.
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        if (spans) {
-          const auto first = std::lower_bound(res.detections_v.begin(), res.detections_v.end(), near,
-                                              [&](const Detection& d, double r) { return v.range_of_row(d.row) < r; });
-          for (auto it = first; it != res.detections_v.end() && v.range_of_row(it->row) <= far; ++it) {
-            const double e = v.bearings_rad[static_cast<size_t>(it->col)];
-            if (std::abs(e) > lim) continue;
-            lo = std::min(lo, e);
-            hi = std::max(hi, e);
-          }
-        }
-        // A face that fills the h sonar's aperture fills the v sonar's fan over the same ranges.
-        if (spans && config.slope_v_span_deg > 0.0) spans = hi - lo >= config.slope_v_span_deg * kDeg;
-        if (spans) {
-          std::optional<double> e = sloped_face_elevation(near, far, h.range_of_row(a.row), lim);
-          // No higher than the v image sees the face over the run: where the face ends inside the
-          // aperture (a crest at long range), the run's far end is that top, not +a.
-          if (e && config.slope_top_from_v && hi >= lo) e = std::min(*e, hi);
-          if (e) {
-            phi = *e;
-            fp.elevation_from = FusedPoint::Elevation::sloped_face;
-            ++res.sloped_face;
-          }
+        if (const auto e = elevation_from_run(h, v, res.detections_v, a, range, lim, medians_h, config, fp)) {
+          phi = *e;
+          fp.elevation_from = FusedPoint::Elevation::sloped_face;
+          ++res.sloped_face;
         }
       }
       const Vec3 p_V = config.T_V_h * spherical_to_cartesian(range, theta, phi);    // Eq. 1
