@@ -1,11 +1,12 @@
 #pragma once
-// Test constructions for perception (header-only; used by fusion_test and the fusion
-// round-trip property): speckled pings with an Oculus-like non-uniform bearing table and
+// Test constructions for perception (header-only; used by fusion_test, fusion_slope_test and
+// the fusion round-trip property): speckled pings with an Oculus-like non-uniform bearing table and
 // point targets drawn at a known (range, angle).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <utility>
 
 #include "core/events.hpp"
 #include "core/random.hpp"
@@ -56,6 +57,26 @@ inline void draw_blob(SonarPing& p, double range_m, double angle_rad, uint8_t pe
   for (int dr = -1; dr <= 1; ++dr)
     for (int dc = -1; dc <= 1; ++dc)
       p.image[static_cast<size_t>((row + dr) * p.cols + col + dc)] = (dr == 0 && dc == 0) ? peak : ring;
+}
+
+// An h/v pair of 200 bins x 256 beams (±32°, uniform) on a flat background of 5.
+inline std::pair<SonarPing, SonarPing> flat_pair() {
+  SonarPing h, v;
+  for (SonarPing* p : {&h, &v}) {
+    p->rows = 200;
+    p->cols = 256;
+    p->range_resolution_m = 0.05;
+    for (int c = 0; c < p->cols; ++c) p->bearings_rad.push_back((-32.0 + 64.0 * c / 255.0) * std::numbers::pi / 180.0);
+    p->image.assign(static_cast<size_t>(p->rows) * p->cols, 5);
+  }
+  h.mount = SonarMount::kHorizontal;
+  v.mount = SonarMount::kVertical;
+  return {std::move(h), std::move(v)};
+}
+
+// Sets one 8-bit pixel.
+inline void set_pixel(SonarPing& p, int row, int col, uint8_t x) {
+  p.image[static_cast<size_t>(row) * p.cols + static_cast<size_t>(col)] = x;
 }
 
 }  // namespace orthosonar::perception::testing
