@@ -11,28 +11,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from meshgen import closed_cylinder_faces, write_obj  # noqa: E402
-
-
-def prism(section, length):
-    """A prism along x from 0 to length with the (y, z) polygon `section` (counter-clockwise)."""
-    n = len(section)
-    verts = [(0.0, y, z) for y, z in section] + [(length, y, z) for y, z in section]
-    faces = []
-    for i in range(1, n - 1):  # two end caps, fanned
-        faces.append((0, i + 1, i))
-        faces.append((n, n + i, n + i + 1))
-    for i in range(n):
-        j = (i + 1) % n
-        faces.append((i, j, n + j))
-        faces.append((i, n + j, n + i))
-    return verts, faces
-
-
-def cylinder(r, h, sides):
-    ring = [(r * math.cos(2 * math.pi * k / sides), r * math.sin(2 * math.pi * k / sides)) for k in range(sides)]
-    verts = [(x, y, 0.0) for x, y in ring] + [(x, y, h) for x, y in ring] + [(0.0, 0.0, 0.0), (0.0, 0.0, h)]
-    return verts, closed_cylinder_faces(sides)
+from meshgen import cylinder, prism, write_obj  # noqa: E402
 
 
 # Rubble-mound arm: trapezoid 10 m wide at the seabed, 3 m at the crest, 7.5 m high

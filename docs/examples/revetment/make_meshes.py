@@ -7,27 +7,11 @@ faces at other slopes, and a vertical reference. A rock revetment at 1:1.5 (56 d
 vertical), a quay wall standing on a 45-degree apron, a scour-protection mound with
 39-degree faces, and a row of round piles.
 """
-import math
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from meshgen import closed_cylinder_faces, write_obj  # noqa: E402
-
-
-def prism(section, length):
-    """A prism along x from 0 to length with the (y, z) polygon `section` (counter-clockwise)."""
-    n = len(section)
-    verts = [(0.0, y, z) for y, z in section] + [(length, y, z) for y, z in section]
-    faces = []
-    for i in range(1, n - 1):  # two end caps, fanned
-        faces.append((0, i + 1, i))
-        faces.append((n, n + i, n + i + 1))
-    for i in range(n):
-        j = (i + 1) % n
-        faces.append((i, j, n + j))
-        faces.append((i, n + j, n + i))
-    return verts, faces
+from meshgen import cylinder, prism, write_obj  # noqa: E402
 
 
 # Revetment: the seaward face rises 7.5 m over 11.25 m (1:1.5) from the seabed (z 0) to a
@@ -49,7 +33,5 @@ for i in range(4):
     faces += [(i, j, 4 + j), (i, 4 + j, 4 + i)]
 write_obj("mound.obj", "scour mound 12/4 x 5 m, faces 39 degrees from vertical", verts, faces)
 
-sides = 12
-ring = [(0.3 * math.cos(2 * math.pi * k / sides), 0.3 * math.sin(2 * math.pi * k / sides)) for k in range(sides)]
-verts = [(x, y, 0.0) for x, y in ring] + [(x, y, 8.5) for x, y in ring] + [(0.0, 0.0, 0.0), (0.0, 0.0, 8.5)]
-write_obj("pile.obj", "round pile r 0.3 h 8.5 m", verts, closed_cylinder_faces(sides))
+v, f = cylinder(0.3, 8.5, 12)
+write_obj("pile.obj", "round pile r 0.3 h 8.5 m", v, f)
