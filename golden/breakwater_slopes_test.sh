@@ -12,6 +12,12 @@
 # 0-10 deg: 0.068 / 0.087), 825 points from their run; Eq. 6: 0.361 / 0.572 (10-30 deg 0.387 /
 # 0.596). Bounds: 1.3 x the first recorded value (0.111 / 0.154 before fusion.slope_top_from_v),
 # as golden/bounds.yaml's.
+# Issue 34 part 2 (the elevation σ, docs/PERCEPTION.md "Elevation uncertainty"), recorded
+# 2026-12-07: the mapped points (σ <= mapping.max_elevation_sigma_deg, 2 deg) 949 of 971,
+# MAE 0.106 / RMSE 0.141; the sloped-face σ against the elevation error: RMS error/σ 1.04,
+# 0.91 within 2 σ; Eq. 6 alone: its v-return σ 1.04 and 0.94, and the maps keep 124 of 971
+# points (MAE 0.076 against 0.361): the σ finds Eq. 6's ambiguous points. Bounds: 1.3 x
+# recorded for the MAE / RMSE; RMS error/σ within [0.7, 1.4] and >= 0.85 within 2 σ.
 # Usage: breakwater_slopes_test.sh ORTHOSONAR SOURCE_DIR WORK_DIR
 set -u
 exe=$1 src=$2 work=$3
@@ -55,6 +61,24 @@ if e["sloped_face"] != 0: bad.append("slope_run_ratio 0 still used runs")
 ratio = band(d, 10)["mae"] / band(e, 10)["mae"]
 print(f"  10-30 deg MAE against Eq. 6's: {ratio:.3f} (bound 0.5)")
 if ratio > 0.5: bad.append("the armour faces are not held by the sloped-face path")
+# The elevation σ: what the maps take, and whether σ matches the error.
+m = d["mapped"]
+at_most("mapped MAE", m["distance_to_mesh_m"]["mae"], 0.138)
+at_most("mapped RMSE", m["distance_to_mesh_m"]["rmse"], 0.183)
+print(f"  mapped {m['points']} of {d['points']} (sigma <= {m['max_elevation_sigma_deg']} deg)")
+if m["share"] < 0.9: bad.append("the maps withhold more than a tenth of the points")
+if m["distance_to_mesh_m"]["rmse"] > d["distance_to_mesh_m"]["rmse"]: bad.append("withholding made the RMSE worse")
+def calibrated(name, c):
+    print(f"  {name} sigma: RMS error/sigma {c['z_rms']}, within 2 sigma {c['within_2_sigma']} ({c['points']} points)")
+    if c["z_rms"] is None or not 0.7 <= c["z_rms"] <= 1.4: bad.append(f"{name} sigma: RMS error/sigma outside [0.7, 1.4]")
+    if c["within_2_sigma"] is None or c["within_2_sigma"] < 0.85: bad.append(f"{name} sigma: under 0.85 within 2 sigma")
+calibrated("sloped-face", d["elevation_sigma"]["sloped_face"])
+calibrated("Eq. 6 v-return", e["elevation_sigma"]["v_return"])
+em = e["mapped"]
+print(f"  Eq. 6 alone: mapped {em['points']} of {e['points']}, MAE {em['distance_to_mesh_m']['mae']:.4f} "
+      f"against {e['distance_to_mesh_m']['mae']:.4f}")
+if em["share"] > 0.5: bad.append("Eq. 6's ambiguous points on the slopes are not withheld")
+if em["distance_to_mesh_m"]["mae"] > 0.5 * e["distance_to_mesh_m"]["mae"]: bad.append("Eq. 6's mapped points are no better")
 if bad: sys.exit("FAIL: " + "; ".join(bad))
 print("breakwater slope bands held")
 PY

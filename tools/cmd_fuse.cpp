@@ -37,12 +37,13 @@ struct FuseArgs {
 // formatting, so bytes are deterministic. Vehicle frame V; metres and radians.
 Status write_pcd(const fs::path& path, const std::vector<FusedPoint>& pts) {
   std::vector<float> values;
-  values.reserve(pts.size() * 9);
+  values.reserve(pts.size() * 10);
   for (const FusedPoint& p : pts)
     values.insert(values.end(), {p.p_V.x(), p.p_V.y(), p.p_V.z(), p.intensity_h, p.intensity_v, p.confidence,
-                                 p.range_m, p.bearing_rad, p.elevation_rad});
+                                 p.range_m, p.bearing_rad, p.elevation_rad, p.elevation_sigma_rad});
   return outputs::write_pcd_fields(path.string(),
-                                   {"x", "y", "z", "intensity_h", "intensity_v", "confidence", "range", "bearing", "elevation"},
+                                   {"x", "y", "z", "intensity_h", "intensity_v", "confidence", "range", "bearing",
+                                    "elevation", "elevation_sigma"},
                                    values, outputs::PcdEncoding::kAscii);
 }
 

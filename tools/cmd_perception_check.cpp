@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -107,6 +108,18 @@ void print_measured(const MeasuredProfile& r) {
     std::printf(" %s%.0f-%.0f deg: %zu points MAE %.3f RMSE %.3f p90 %.3f", b.lo_deg > 0 ? "| " : "", b.lo_deg,
                 b.hi_deg, b.points, b.figures.mae, b.figures.rmse, b.figures.p90);
   std::printf("\n");
+  // What the maps take, and how honest the elevation σ is (issue 34).
+  const mapping::MappedPoints mp = mapping::mapped_points(f, r.max_elevation_sigma_deg * std::numbers::pi / 180.0);
+  const mapping::FusionFigures mf = mapping::fusion_figures(mp.err);
+  std::printf("  mapped (elevation sigma <= %.2f deg): %zu points (%.3f of fused), MAE %.3f RMSE %.3f p90 %.3f\n",
+              r.max_elevation_sigma_deg, mp.err.size(), ratio(d(mp.err.size()), d(f.err.size())), mf.mae, mf.rmse, mf.p90);
+  for (const bool sloped : {false, true}) {
+    const mapping::SigmaCalibration c = mapping::sigma_calibration(f, sloped);
+    std::printf("  elevation sigma, %s points: %zu with an error, RMS error %.2f deg, RMS sigma %.2f deg, RMS error/sigma "
+                "%.2f, within 1 sigma %.3f, 2 sigma %.3f\n",
+                sloped ? "sloped-face" : "v-return", c.points, c.rms_error_deg, c.rms_sigma_deg, c.z_rms, c.within_1sigma,
+                c.within_2sigma);
+  }
   // How much of the error the choice among candidates explains (issue 34).
   const mapping::AssociationBound ab = mapping::association_bound(f);
   std::printf("  association bound: MAE as fused %.3f | with the best v candidate of each point's range bin %.3f | "

@@ -33,6 +33,9 @@ void tally_image(const SonarPing& ping, const std::vector<uint8_t>& semantic,
 namespace {
 
 constexpr double kBoundStepRad = 0.2 * std::numbers::pi / 180.0;  // the association bound's elevation grid
+// An arc passing farther than this from every surface meets none (its range is wrong, not
+// its elevation): the point has no elevation error (FusionTally::elevation_error_rad).
+constexpr double kArcSurfaceTolM = 0.15;
 
 double sorted_quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
@@ -54,6 +57,45 @@ AssociationBound association_bound(const FusionTally& f) {
     }
   b.single_candidate_mae = b.single_candidate_points ? s / static_cast<double>(b.single_candidate_points) : std::nan("");
   return b;
+}
+
+MappedPoints mapped_points(const FusionTally& f, double max_sigma_rad) {
+  MappedPoints m;
+  for (size_t i = 0; i < f.err.size(); ++i)
+    if (max_sigma_rad <= 0.0 || i >= f.elevation_sigma_rad.size() ||
+        f.elevation_sigma_rad[i] <= static_cast<float>(max_sigma_rad)) {
+      m.err.push_back(f.err[i]);
+      m.surface_deg.push_back(f.surface_deg[i]);
+    }
+  return m;
+}
+
+SigmaCalibration sigma_calibration(const FusionTally& f, bool sloped_face) {
+  constexpr double kToDeg = 180.0 / std::numbers::pi;
+  SigmaCalibration c;
+  double e2 = 0, s2 = 0, z2 = 0, in1 = 0, in2 = 0;
+  for (size_t i = 0; i < f.elevation_error_rad.size(); ++i) {
+    const double e = f.elevation_error_rad[i], s = f.elevation_sigma_rad[i];
+    if (std::isnan(e) || (f.from_sloped_face[i] != 0) != sloped_face || !(s > 0.0)) continue;
+    ++c.points;
+    e2 += e * e;
+    s2 += s * s;
+    const double z = std::abs(e) / s;
+    z2 += z * z;
+    in1 += z <= 1.0;
+    in2 += z <= 2.0;
+  }
+  const double n = static_cast<double>(c.points);
+  if (c.points == 0) {
+    c.rms_error_deg = c.rms_sigma_deg = c.z_rms = c.within_1sigma = c.within_2sigma = std::nan("");
+    return c;
+  }
+  c.rms_error_deg = std::sqrt(e2 / n) * kToDeg;
+  c.rms_sigma_deg = std::sqrt(s2 / n) * kToDeg;
+  c.z_rms = std::sqrt(z2 / n);
+  c.within_1sigma = in1 / n;
+  c.within_2sigma = in2 / n;
+  return c;
 }
 
 FusionFigures fusion_figures(const std::vector<double>& err) {
@@ -156,6 +198,7 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
     tally_image(h, lh->second, r.detections_h, overlap_rad_, out_.h);
     tally_image(v, lv->second, r.detections_v, overlap_rad_, out_.v);
     const int bound_steps = static_cast<int>(std::floor(overlap_rad_ / kBoundStepRad));  // the elevation grid's half width
+    std::vector<double> arc;
     if (const auto T_W_V = truth_.at(h.stamp))
       for (const perception::FusedPoint& p : r.points) {
         const Eigen::Vector3d p_W = *T_W_V * p.p_V.cast<double>();
@@ -170,14 +213,36 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
         double best_c = near.distance;
         for (uint32_t k = 0; k < p.bin_count && p.bin_first + k < r.bin_elevations_rad.size(); ++k)
           best_c = std::min(best_c, dist_at(r.bin_elevations_rad[p.bin_first + k]));
+        arc.resize(static_cast<size_t>(2 * bound_steps + 1));
         double best_e = near.distance;
-        for (int k = -bound_steps; k <= bound_steps; ++k) best_e = std::min(best_e, dist_at(k * kBoundStepRad));
+        for (int k = -bound_steps; k <= bound_steps; ++k)
+          best_e = std::min(best_e, arc[static_cast<size_t>(k + bound_steps)] = dist_at(k * kBoundStepRad));
+        // Where the arc meets a surface: the samples within one grid step of its closest pass.
+        double elev_err = std::nan("");
+        if (best_e <= kArcSurfaceTolM) {
+          const double tol = best_e + p.range_m * kBoundStepRad;
+          for (int k = -bound_steps; k <= bound_steps; ++k) {
+            const double e = p.elevation_rad - k * kBoundStepRad;
+            if (arc[static_cast<size_t>(k + bound_steps)] <= tol && !(std::abs(e) >= std::abs(elev_err))) elev_err = e;
+          }
+        }
+        const bool sloped = p.elevation_from == perception::FusedPoint::Elevation::sloped_face;
         f.err_best_candidate.push_back(best_c);
         f.err_best_elevation.push_back(best_e);
         f.bin_candidates_v.push_back(p.bin_count);
-        if (f.keep_points)
+        f.elevation_error_rad.push_back(elev_err);
+        f.elevation_sigma_rad.push_back(p.elevation_sigma_rad);
+        f.from_sloped_face.push_back(sloped ? 1 : 0);
+        if (f.keep_points) {
+          double spread = 0;
+          for (uint32_t k = 0; k < p.bin_count && p.bin_first + k < r.bin_elevations_rad.size(); ++k) {
+            const double d = r.bin_elevations_rad[p.bin_first + k] - p.elevation_rad;
+            spread += d * d;
+          }
+          spread = p.bin_count > 0 ? std::sqrt(spread / p.bin_count) : 0.0;
           f.points.push_back({p_W.cast<float>(), p.range_m, p.bearing_rad, p.elevation_rad, p.confidence,
-                              h.stamp.seconds(), p.elevation_from == perception::FusedPoint::Elevation::sloped_face});
+                              h.stamp.seconds(), sloped, p.run_far_m - p.run_near_m, static_cast<float>(spread)});
+        }
       }
   }
   labels_.erase(labels_.begin(), labels_.upper_bound({0, h.ping_id}));

@@ -53,12 +53,23 @@ struct FusionTally {
   // the surface); and how many v candidates its bin had.
   std::vector<double> err_best_candidate, err_best_elevation;
   std::vector<uint32_t> bin_candidates_v;
+  // The elevation error (rad, signed), in err's order: the point's elevation less the
+  // nearest elevation on the h return's arc at which the arc meets a surface (the grid
+  // samples of the association bound within one grid step of the arc's closest pass; the
+  // one nearest the point's own elevation). NaN when the arc passes no surface within
+  // kArcSurfaceTolM. Beside it the elevation σ the fusion gave the point
+  // (FusedPoint::elevation_sigma_rad): their ratio is the σ's calibration (issue 34).
+  std::vector<double> elevation_error_rad;
+  std::vector<float> elevation_sigma_rad;
+  std::vector<uint8_t> from_sloped_face;
   bool keep_points = false;  // keep each point's fields below, in err's order
   struct Point {
     Eigen::Vector3f p_W;  // true-pose world position
     float range_m, bearing_rad, elevation_rad, confidence;
     double stamp_s;
     bool sloped_face;  // elevation from the h return's run (FusedPoint::elevation_from)
+    float run_m;       // the h return's run along its beam (FusedPoint::run_far_m - run_near_m)
+    float bin_spread_rad;  // RMS of the bin's v candidates about the chosen elevation
   };
   std::vector<Point> points;
 };
@@ -91,6 +102,24 @@ struct SlopeBand {
   FusionFigures figures;
 };
 std::vector<SlopeBand> fusion_figures_by_slope(const std::vector<double>& err, const std::vector<float>& surface_deg);
+
+// Issue 34 (docs/PERCEPTION.md "Elevation uncertainty"). The points the maps take: err and
+// surface_deg of the points whose elevation σ is at most max_sigma_rad (0: every point).
+struct MappedPoints {
+  std::vector<double> err;
+  std::vector<float> surface_deg;
+};
+MappedPoints mapped_points(const FusionTally& f, double max_sigma_rad);
+
+// How well the elevation σ predicts the elevation error, over the points of one source
+// (sloped_face: the run's; otherwise the v return's) that have an elevation error: their count,
+// RMS error and RMS σ (deg), RMS of error / σ (1 for an honest σ of a normal error), and the
+// shares within 1 σ and 2 σ (0.68 and 0.95 for one). NaNs when there is no such point.
+struct SigmaCalibration {
+  size_t points = 0;
+  double rms_error_deg, rms_sigma_deg, z_rms, within_1sigma, within_2sigma;
+};
+SigmaCalibration sigma_calibration(const FusionTally& f, bool sloped_face);
 
 // A unit normal's surface angle from vertical (deg): asin(|n_z|); 0 for a zero normal.
 double surface_angle_from_vertical_deg(const Eigen::Vector3d& normal);

@@ -147,6 +147,39 @@ TEST_CASE("association bound: MAE as fused, with the best candidate, the best el
   CHECK(std::isnan(none.single_candidate_mae));
 }
 
+TEST_CASE("mapped points and the elevation sigma's calibration", "[unit]") {
+  const double deg = M_PI / 180.0;
+  FusionTally f;
+  f.err = {0.1, 0.2, 0.3, 0.4, 0.5};
+  f.surface_deg = {0, 10, 20, 30, 40};
+  f.elevation_sigma_rad = {float(1 * deg), float(3 * deg), float(1 * deg), float(2 * deg), float(0.5 * deg)};
+  f.elevation_error_rad = {0.5 * deg, -4.0 * deg, std::nan(""), -3.0 * deg, 0.25 * deg};
+  f.from_sloped_face = {0, 0, 0, 1, 1};
+  // At most 2 deg: points 0, 2, 3, 4 (the bound is inclusive); 0 keeps every point.
+  const MappedPoints m = mapped_points(f, 2.0 * deg);
+  REQUIRE(m.err.size() == 4);
+  CHECK(m.err[1] == 0.3);
+  CHECK(m.surface_deg[3] == 40.0f);
+  CHECK(mapped_points(f, 0.0).err.size() == 5);
+  // v-return points with an error: 0 (z 0.5) and 1 (z 4/3); point 2 has none.
+  const SigmaCalibration v = sigma_calibration(f, false);
+  CHECK(v.points == 2);
+  CHECK(v.rms_error_deg == Approx(std::sqrt((0.25 + 16.0) / 2)));
+  CHECK(v.rms_sigma_deg == Approx(std::sqrt((1.0 + 9.0) / 2)));
+  CHECK(v.z_rms == Approx(std::sqrt((0.25 + 16.0 / 9.0) / 2)));
+  CHECK(v.within_1sigma == Approx(0.5));
+  CHECK(v.within_2sigma == Approx(1.0));
+  // Sloped: 3 (z 1.5) and 4 (z 0.5).
+  const SigmaCalibration s = sigma_calibration(f, true);
+  CHECK(s.points == 2);
+  CHECK(s.within_1sigma == Approx(0.5));
+  CHECK(s.within_2sigma == Approx(1.0));
+  CHECK(s.z_rms == Approx(std::sqrt((2.25 + 0.25) / 2)));
+  const SigmaCalibration none = sigma_calibration(FusionTally{}, true);
+  CHECK(none.points == 0);
+  CHECK(std::isnan(none.z_rms));
+}
+
 TEST_CASE("truth track: truth_pose_at inside, held at the ends, forgets only what is behind", "[unit]") {
   std::vector<TruthPose> truth = {truth_at(Time::from_s(1), 0), truth_at(Time::from_s(2), 1),
                                   truth_at(Time::from_s(3), 4)};

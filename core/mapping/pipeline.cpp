@@ -1,6 +1,7 @@
 #include "core/mapping/pipeline.hpp"
 
 #include <algorithm>
+#include <numbers>
 #include <variant>
 
 #include "core/slam/planar_cloud.hpp"
@@ -190,7 +191,20 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
       s->on_poses_updated(poses);
     }
   }
-  const PairInput in{stamp, &p.h, &p.v, &fused, T_W_V};
+  // The maps take the points whose elevation is known well enough (issue 34).
+  const perception::FusionResult* mapped = &fused;
+  perception::FusionResult kept;
+  if (config_.max_elevation_sigma_deg > 0.0) {
+    const auto max_sigma = static_cast<float>(config_.max_elevation_sigma_deg * std::numbers::pi / 180.0);
+    const auto uncertain = [max_sigma](const perception::FusedPoint& q) { return q.elevation_sigma_rad > max_sigma; };
+    if (const auto n = std::count_if(fused.points.begin(), fused.points.end(), uncertain); n > 0) {
+      counts_.withheld_uncertain += n;
+      kept = fused;  // detections and all: a mapping system may read them (inference does)
+      std::erase_if(kept.points, uncertain);
+      mapped = &kept;
+    }
+  }
+  const PairInput in{stamp, &p.h, &p.v, mapped, T_W_V};
   for (auto& s : systems_) s->on_pair(in);
 }
 

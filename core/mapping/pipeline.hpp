@@ -45,6 +45,12 @@ struct PipelineConfig {
   slam::DrConfig dr;
   slam::SlamConfig slam;
   size_t fusion_batch_pairs = 8;  // pairs fused together (in parallel when the executor allows)
+  // Issue 34 (docs/PERCEPTION.md "Elevation uncertainty"): fused points whose elevation σ
+  // (FusedPoint::elevation_sigma_rad) exceeds this are withheld from the maps (counted in
+  // PipelineCounts::withheld_uncertain; observers still see every point). An angle, not a
+  // distance: range × σ grows with range for every point alike, and a distance cut empties
+  // the far field. 0 = keep every point.
+  double max_elevation_sigma_deg = 2.0;
 };
 
 struct PipelineCounts {
@@ -56,6 +62,7 @@ struct PipelineCounts {
   int64_t detections_h = 0, detections_v = 0;
   int64_t matches = 0, culled_low_confidence = 0, fused_points = 0;
   int64_t fused_sloped_face = 0;  // fused points whose elevation came from their h run
+  int64_t withheld_uncertain = 0; // fused points not mapped: elevation σ over max_elevation_sigma_deg
   int64_t keyframes = 0;
   int64_t loop_closures = 0;      // accepted
 };

@@ -350,3 +350,50 @@ TEST_CASE("slam.keyframe_cloud_s gathers the pairs since the previous keyframe i
     CHECK(dense[k].cloud_V.size() == own[k].cloud_V.size());        // every own cloud enough
   }
 }
+
+TEST_CASE("mapping.max_elevation_sigma_deg withholds uncertain points from the maps, and only from them", "[unit]") {
+  const auto events = mission(true, 8);
+  struct Seen {
+    PipelineCounts counts;
+    size_t fusion_map = 0, submap = 0, observed = 0;
+  };
+  // Every other fused point gets an elevation σ of 3 deg, the rest 1 deg.
+  auto run_with = [&](double max_sigma_deg) {
+    PipelineConfig cfg;
+    cfg.slam.kf_distance_m = 2.0;
+    cfg.fusion.min_confidence = 0.0;
+    cfg.max_elevation_sigma_deg = max_sigma_deg;
+    Pipeline p(cfg);
+    p.set_fusion([fc = cfg.fusion](const SonarPing& h, const SonarPing& v) {
+      perception::FusionResult r = perception::fuse_pair(h, v, fc);
+      for (size_t i = 0; i < r.points.size(); ++i)
+        r.points[i].elevation_sigma_rad = static_cast<float>((i % 2 ? 3.0 : 1.0) * M_PI / 180.0);
+      return r;
+    });
+    Seen s;
+    p.set_pair_observer([&s](const SonarPing&, const SonarPing&, const perception::FusionResult& f) {
+      s.observed += f.points.size();
+    });
+    p.add_system(std::make_unique<FusionMapping>());
+    p.add_system(std::make_unique<Submapping>());
+    for (const auto& e : events) p.consume(e);
+    p.finish();
+    s.counts = p.counts();
+    s.fusion_map = p.systems()[0]->map_points_W().size();
+    s.submap = p.systems()[1]->map_points_W().size();
+    return s;
+  };
+  const Seen all = run_with(0.0), kept = run_with(2.0), none = run_with(0.5);
+  REQUIRE(all.counts.fused_points > 10);
+  CHECK(all.counts.withheld_uncertain == 0);
+  CHECK(all.submap == static_cast<size_t>(all.counts.fused_points));
+  // Half the points (the odd ones of each pair) are withheld; the counts and observers still see them all.
+  CHECK(kept.counts.fused_points == all.counts.fused_points);
+  CHECK(kept.observed == static_cast<size_t>(all.counts.fused_points));
+  CHECK(kept.counts.withheld_uncertain > 0);
+  CHECK(kept.submap == static_cast<size_t>(kept.counts.fused_points - kept.counts.withheld_uncertain));
+  CHECK(kept.submap < all.submap);
+  CHECK(kept.fusion_map <= all.fusion_map);
+  CHECK(none.submap == 0);
+  CHECK(none.counts.withheld_uncertain == none.counts.fused_points);
+}

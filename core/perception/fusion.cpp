@@ -87,14 +87,13 @@ void rot90(const float* in, int side, float* out) {
     for (int b = 0; b < side; ++b) out[a * side + b] = in[b * side + (side - 1 - a)];
 }
 
-// Issue 34 (docs/PERCEPTION.md "Sloped faces"): the run of h return `a` along its beam,
-// recorded in fp.run_near_m / run_far_m, and the elevation it gives when the run is a sloped
-// face filling the aperture (FusionConfig::slope_run_ratio, slope_v_span_deg,
-// slope_top_from_v); nullopt otherwise. `range` is Eq. 3's, `lim` the half-aperture, `dets_v`
-// the v detections, row-major.
-std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v, const std::vector<Detection>& dets_v,
-                                         const Candidate& a, double range, double lim, RowMedians& medians_h,
-                                         const FusionConfig& config, FusedPoint& fp) {
+// Issue 34 (docs/PERCEPTION.md "Sloped faces"): the run of h return `a` along its beam (the
+// ranges of its ends). Measured for every point: its length also sets the point's elevation σ.
+struct Run {
+  double near_m = 0, far_m = 0;
+};
+
+Run measure_run(const SonarPing& h, const Candidate& a, RowMedians& medians_h, const FusionConfig& config) {
   const double floor = std::max(config.noise_floor_factor > 0.0
                                     ? config.noise_floor_factor * medians_h.local_floor(a.row, config.noise_floor_rows)
                                     : 0.0,
@@ -107,9 +106,16 @@ std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v,
   for (int r = a.row + 1, g = 0; r < h.rows && g <= gap; ++r) {
     if (h.at(r, a.col) >= floor) { r1 = r; g = 0; } else { ++g; }
   }
-  const double near = h.range_of_row(r0), far = h.range_of_row(r1);
-  fp.run_near_m = static_cast<float>(near);
-  fp.run_far_m = static_cast<float>(far);
+  return {h.range_of_row(r0), h.range_of_row(r1)};
+}
+
+// The elevation the run gives when it is a sloped face filling the aperture
+// (FusionConfig::slope_run_ratio, slope_v_span_deg, slope_top_from_v); nullopt otherwise.
+// `range` is Eq. 3's, `lim` the half-aperture, `dets_v` the v detections, row-major.
+std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v, const std::vector<Detection>& dets_v,
+                                         const Candidate& a, const Run& run, double range, double lim,
+                                         const FusionConfig& config) {
+  const double near = run.near_m, far = run.far_m;
   const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
   if (far - near < config.slope_run_ratio * wall) return std::nullopt;
   // The elevations at which the v image sees anything in the overlap over the run's ranges.
@@ -326,13 +332,18 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
       const double theta = h.bearings_rad[static_cast<size_t>(a.col)];
       double phi = v.bearings_rad[static_cast<size_t>(b.col)];
       FusedPoint fp;
+      const Run run = measure_run(h, a, medians_h, config);
+      fp.run_near_m = static_cast<float>(run.near_m);
+      fp.run_far_m = static_cast<float>(run.far_m);
       if (config.slope_run_ratio > 0.0) {
-        if (const auto e = elevation_from_run(h, v, res.detections_v, a, range, lim, medians_h, config, fp)) {
+        if (const auto e = elevation_from_run(h, v, res.detections_v, a, run, range, lim, config)) {
           phi = *e;
           fp.elevation_from = FusedPoint::Elevation::sloped_face;
           ++res.sloped_face;
         }
       }
+      fp.elevation_sigma_rad = static_cast<float>(
+          elevation_sigma(config, fp.elevation_from, run.far_m - run.near_m, range, phi, lim));
       const Vec3 p_V = config.T_V_h * spherical_to_cartesian(range, theta, phi);    // Eq. 1
       fp.p_V = p_V.cast<float>();
       fp.range_m = static_cast<float>(range);
@@ -363,6 +374,18 @@ std::optional<double> sloped_face_elevation(double near_m, double far_m, double 
   // (docs/PERCEPTION.md "Sloped faces").
   const double t = std::clamp((range_m - near_m) / (far_m - near_m), 0.0, 1.0);
   return -half_aperture_rad + 2.0 * half_aperture_rad * t;
+}
+
+double elevation_sigma(const FusionConfig& config, FusedPoint::Elevation from, double run_m, double range_m,
+                       double elevation_rad, double half_aperture_rad) {
+  if (from == FusedPoint::Elevation::sloped_face) {
+    const double t =
+        half_aperture_rad > 0.0 ? std::clamp((elevation_rad + half_aperture_rad) / (2.0 * half_aperture_rad), 0.0, 1.0) : 0.0;
+    return (config.sigma_slope_near_deg + (config.sigma_slope_far_deg - config.sigma_slope_near_deg) * t) * kDeg;
+  }
+  const double wall = range_m * (1.0 / std::cos(half_aperture_rad) - 1.0);
+  const double walls = wall > 0.0 && run_m > 0.0 ? run_m / wall : 0.0;
+  return (config.sigma_v_deg + config.sigma_v_per_wall_deg * std::max(0.0, walls - 1.0)) * kDeg;
 }
 
 std::vector<Eigen::Vector3d> points_V_at_elevation(const SonarPing& h, const std::vector<Detection>& dets,

@@ -67,6 +67,18 @@ struct FusionConfig {
   // overlap over the run's ranges: where the face ends inside the aperture (a crest at long
   // range), the run's far end is that top edge, not +a. false: the linear elevation as is.
   bool slope_top_from_v = true;
+  // Addition (issue 34; docs/PERCEPTION.md "Elevation uncertainty"): each point's elevation σ
+  // (FusedPoint::elevation_sigma_rad). A v-return point's is sigma_v_deg plus
+  // sigma_v_per_wall_deg for each wall-length of its h run beyond the first (a run longer
+  // than a wall's says the surface spans elevations at this range, and Eq. 6's v return is
+  // one of them). A sloped-face point's grows linearly with its elevation from
+  // sigma_slope_near_deg at -a (the run's near end, where the aperture's bottom meets the
+  // face) to sigma_slope_far_deg at +a (the far end: a crest, a dimming grazing return).
+  // Fitted on seed 1 of the seven scenes, checked on seeds 2-3 and the revetment.
+  double sigma_v_deg = 0.8;
+  double sigma_v_per_wall_deg = 0.3;
+  double sigma_slope_near_deg = 0.3;
+  double sigma_slope_far_deg = 1.1;
   SE3 T_V_h = default_T_V_h();
   SE3 T_V_v = default_T_V_v();
   // SPEC CFAR with the isolated-speckle filter on (3 of 8 neighbours) against the field
@@ -87,6 +99,10 @@ struct FusedPoint {
   enum class Elevation : uint8_t { v_return = 0, sloped_face = 1 };
   Elevation elevation_from = Elevation::v_return;
   float run_near_m = 0, run_far_m = 0;  // the h return's run (both 0 when not measured)
+  // The elevation's standard uncertainty (rad, issue 34; docs/PERCEPTION.md "Elevation
+  // uncertainty"): from the spread of the v candidates Eq. 6 chose among, or from the run's
+  // length. Mapping withholds points whose range × σ exceeds MapFilter::max_point_sigma_m.
+  float elevation_sigma_rad = 0;
   // The v candidates of this point's range bin (the alternatives Eq. 6 chose among):
   // FusionResult::bin_elevations_rad[bin_first, bin_first + bin_count). For diagnosis
   // (perception-check's association bound, issue 34); nothing downstream reads them, and
@@ -117,6 +133,12 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
 // face rising away from the sonar), linear in range between them, clamped to the run.
 // nullopt when far_m <= near_m.
 std::optional<double> sloped_face_elevation(double near_m, double far_m, double range_m, double half_aperture_rad);
+
+// A point's elevation σ (rad) under FusionConfig's sigma_* (see there): `run_m` its h run's
+// length (0 when not measured: no run beyond a wall's), `range_m` Eq. 3's range, `elevation_rad`
+// its elevation, `half_aperture_rad` a. Exposed for tests.
+double elevation_sigma(const FusionConfig& config, FusedPoint::Elevation from, double run_m, double range_m,
+                       double elevation_rad, double half_aperture_rad);
 
 // Median intensity of each row (the lower median; raw image units), computed on demand and
 // kept: the local noise floor of the fusion gate. Exposed for tests.

@@ -63,6 +63,9 @@ TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elev
                                    (h.range_of_row(far_row) - h.range_of_row(near_row));
   CHECK(p.elevation_rad == Approx(expected).margin(1e-6));
   CHECK(std::abs(p.elevation_rad - v.bearings_rad[static_cast<size_t>(col_v)]) > 4.0 * kSlopeDeg);
+  // Its σ is the run's, at its place along the run.
+  CHECK(p.elevation_sigma_rad == Approx(elevation_sigma(cfg, FusedPoint::Elevation::sloped_face, 3.0, p.range_m,
+                                                        expected, a)).epsilon(1e-5));
   // Its position is Eq. 1 at that elevation.
   const Vec3 q = cfg.T_V_h * spherical_to_cartesian(p.range_m, p.bearing_rad, expected);
   CHECK((p.p_V.cast<double>() - q).norm() < 1e-5);
@@ -74,6 +77,10 @@ TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elev
   CHECK(eq6.sloped_face == 0);
   CHECK(eq6.points[0].elevation_from == FusedPoint::Elevation::v_return);
   CHECK(eq6.points[0].elevation_rad == Approx(v.bearings_rad[static_cast<size_t>(col_v)]));
+  // Eq. 6 on a run some 30 walls long: the v return is one of many elevations the face spans
+  // at this range, and its σ says so (far over mapping's default 2 degrees).
+  CHECK(eq6.points[0].run_far_m - eq6.points[0].run_near_m == Approx(3.0).epsilon(1e-4));
+  CHECK(eq6.points[0].elevation_sigma_rad > 5.0 * kSlopeDeg);
 
   // A run as short as a wall's (5 rows, 0.2 m < 8 x 0.09 m): Eq. 6's elevation.
   cfg.slope_run_ratio = 8.0;
@@ -82,6 +89,7 @@ TEST_CASE("slope_run_ratio: a return on a long run along its beam takes its elev
   CHECK(wall.sloped_face == 0);
   CHECK(wall.points[0].elevation_rad == Approx(v.bearings_rad[static_cast<size_t>(col_v)]));
   CHECK(wall.points[0].run_far_m - wall.points[0].run_near_m == Approx(4 * h.range_resolution_m));
+  CHECK(wall.points[0].elevation_sigma_rad < 2.0 * kSlopeDeg);
 
   // Gaps of up to slope_run_max_gap rows are bridged; a wider one ends the run.
   SonarPing gapped = h;
@@ -146,4 +154,26 @@ TEST_CASE("slope_top_from_v: a run's elevation stays at or under the highest v d
   const FusionResult higher = fuse_pair(h, v, cfg);
   REQUIRE(higher.points.size() == 1);
   CHECK(higher.points[0].elevation_rad == Approx(linear).margin(1e-6));
+}
+
+TEST_CASE("elevation_sigma: a v return's grows with its run in wall-lengths, a sloped face's along the aperture",
+          "[unit]") {
+  FusionConfig cfg;  // 0.8 deg + 0.3 deg per wall beyond the first; 0.3 deg at -a to 1.1 deg at +a
+  const double a = 10.0 * kSlopeDeg, range = 20.0;
+  const double wall = range * (1.0 / std::cos(a) - 1.0);  // 0.3085 m
+  using E = FusedPoint::Elevation;
+  CHECK(elevation_sigma(cfg, E::v_return, 0.0, range, 0.0, a) == Approx(0.8 * kSlopeDeg));  // no run measured
+  CHECK(elevation_sigma(cfg, E::v_return, 0.5 * wall, range, 0.0, a) == Approx(0.8 * kSlopeDeg));
+  CHECK(elevation_sigma(cfg, E::v_return, wall, range, 0.0, a) == Approx(0.8 * kSlopeDeg));
+  CHECK(elevation_sigma(cfg, E::v_return, 3.0 * wall, range, 0.0, a) == Approx(1.4 * kSlopeDeg));
+  CHECK(elevation_sigma(cfg, E::v_return, 5.0 * wall, range, 0.0, a) == Approx(2.0 * kSlopeDeg));
+  // The same run at twice the range is half as many walls.
+  CHECK(elevation_sigma(cfg, E::v_return, 3.0 * wall, 2.0 * range, 0.0, a) == Approx(0.95 * kSlopeDeg));
+  CHECK(elevation_sigma(cfg, E::sloped_face, 3.0, range, -a, a) == Approx(0.3 * kSlopeDeg));
+  CHECK(elevation_sigma(cfg, E::sloped_face, 3.0, range, 0.0, a) == Approx(0.7 * kSlopeDeg));
+  CHECK(elevation_sigma(cfg, E::sloped_face, 3.0, range, a, a) == Approx(1.1 * kSlopeDeg));
+  CHECK(elevation_sigma(cfg, E::sloped_face, 3.0, range, 2.0 * a, a) == Approx(1.1 * kSlopeDeg));  // clamped
+  cfg.sigma_v_deg = 0.5;
+  cfg.sigma_v_per_wall_deg = 0.0;
+  CHECK(elevation_sigma(cfg, E::v_return, 9.0 * wall, range, 0.0, a) == Approx(0.5 * kSlopeDeg));
 }

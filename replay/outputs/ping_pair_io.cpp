@@ -128,6 +128,9 @@ Status write_ping_pair(const std::string& dir, const SonarPing& h, const SonarPi
                       {"bearing_rad", f.bearing_rad},
                       {"elevation_rad", f.elevation_rad},
                       {"confidence", f.confidence},
+                      {"elevation_from", f.elevation_from == perception::FusedPoint::Elevation::sloped_face
+                                             ? "sloped_face" : "v_return"},
+                      {"elevation_sigma_rad", f.elevation_sigma_rad},
                       {"p_V", {f.p_V.x(), f.p_V.y(), f.p_V.z()}}});
   const nlohmann::json j = {{"horizontal", ping_json(h)},
                             {"vertical", ping_json(v)},
@@ -184,6 +187,15 @@ Result<PingPairRecord> read_ping_pair(const std::string& dir) {
       const auto p = o.at("p_V").get<std::vector<float>>();
       if (p.size() != 3) return rd.fail("fused_points[" + std::to_string(i) + "].p_V", "expected [x, y, z]");
       f.p_V = Eigen::Vector3f(p[0], p[1], p[2]);
+      // Written since issue 34's uncertainty; files from before have neither.
+      if (o.contains("elevation_sigma_rad")) f.elevation_sigma_rad = o.at("elevation_sigma_rad").get<float>();
+      if (o.contains("elevation_from")) {
+        const auto from = o.at("elevation_from").get<std::string>();
+        if (from == "sloped_face") f.elevation_from = perception::FusedPoint::Elevation::sloped_face;
+        else if (from != "v_return")
+          return rd.fail("fused_points[" + std::to_string(i) + "].elevation_from",
+                         "'" + from + "' is neither v_return nor sloped_face");
+      }
     } catch (const nlohmann::json::exception& e) {
       return rd.fail("fused_points[" + std::to_string(i) + "]", e.what());
     }

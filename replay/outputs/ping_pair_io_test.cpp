@@ -49,7 +49,11 @@ TEST_CASE("ping_pair/ round-trips both images, detections and fused points", "[o
     p.elevation_rad = -0.05f;
     p.confidence = 0.7f;
     p.p_V = Eigen::Vector3f(1.8f, 0.15f, -0.1f);
-    f.points = {p};
+    p.elevation_from = perception::FusedPoint::Elevation::sloped_face;
+    p.elevation_sigma_rad = 0.0125f;
+    perception::FusedPoint q = p;
+    q.elevation_from = perception::FusedPoint::Elevation::v_return;
+    f.points = {p, q};
     REQUIRE(outputs::write_ping_pair(dir.string(), h, v, f, 10.0).ok());
     auto r = outputs::read_ping_pair(dir.string());
     REQUIRE(r.ok());
@@ -59,9 +63,12 @@ TEST_CASE("ping_pair/ round-trips both images, detections and fused points", "[o
     CHECK(r->detections_h[1].row == 39);
     CHECK(r->detections_h[1].col == 15);
     CHECK(r->detections_v.size() == 1);
-    REQUIRE(r->fused.size() == 1);
+    REQUIRE(r->fused.size() == 2);
     CHECK(r->fused[0].range_m == 1.5f);
     CHECK(r->fused[0].p_V.isApprox(p.p_V));
+    CHECK(r->fused[0].elevation_from == perception::FusedPoint::Elevation::sloped_face);
+    CHECK(r->fused[0].elevation_sigma_rad == 0.0125f);
+    CHECK(r->fused[1].elevation_from == perception::FusedPoint::Elevation::v_return);
     CHECK(r->overlap_deg == 10.0);
   }
 }
@@ -85,6 +92,12 @@ TEST_CASE("a bad ping_pair/ is an error naming the file and the field", "[output
       {"wrong size", [](nlohmann::json& j) { j["horizontal"]["rows"] = 41; }, "horizontal.png"},
       {"missing key", [](nlohmann::json& j) { j["horizontal"].erase("stamp_ns"); }, "horizontal"},
       {"overlap", [](nlohmann::json& j) { j["overlap_deg"] = -1; }, "overlap_deg"},
+      {"elevation source",
+       [](nlohmann::json& j) {
+         j["fused_points"] = {{{"range_m", 1.0}, {"bearing_rad", 0.0}, {"elevation_rad", 0.0}, {"confidence", 1.0},
+                               {"elevation_from", "guess"}, {"p_V", {1.0, 0.0, 0.0}}}};
+       },
+       "fused_points[0].elevation_from"},
   };
   for (const auto& c : cases) {
     INFO(c.name);

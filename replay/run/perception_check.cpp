@@ -68,9 +68,34 @@ json mount_json(const mapping::MountTally& t, double gate) {
             {"in_overlap_precision_structure", ratio(d(t.det_overlap_structure), d(t.det_overlap))}}}};
 }
 
+json slope_bands_json(const std::vector<double>& err, const std::vector<float>& surface_deg) {
+  json bands = json::array();
+  for (const auto& b : mapping::fusion_figures_by_slope(err, surface_deg))
+    bands.push_back({{"from_deg", b.lo_deg},
+                     {"to_deg", b.hi_deg},
+                     {"points", b.points},
+                     {"median", num(b.figures.median)},
+                     {"p90", num(b.figures.p90)},
+                     {"mae", num(b.figures.mae)},
+                     {"rmse", num(b.figures.rmse)}});
+  return bands;
+}
+
+json calibration_json(const mapping::SigmaCalibration& c) {
+  return {{"points", c.points},
+          {"rms_error_deg", num(c.rms_error_deg)},
+          {"rms_sigma_deg", num(c.rms_sigma_deg)},
+          {"z_rms", num(c.z_rms)},
+          {"within_1_sigma", num(c.within_1sigma)},
+          {"within_2_sigma", num(c.within_2sigma)}};
+}
+
 json measured_json(const MeasuredProfile& r) {
   const mapping::FusionTally& f = r.m.fusion;
   const mapping::FusionFigures ff = mapping::fusion_figures(f.err);
+  const double deg = std::numbers::pi / 180.0;
+  const mapping::MappedPoints mp = mapping::mapped_points(f, r.max_elevation_sigma_deg * deg);
+  const mapping::FusionFigures mf = mapping::fusion_figures(mp.err);
   return {{"label", r.label},
           {"profile", r.profile},
           {"note", r.note},
@@ -88,18 +113,18 @@ json measured_json(const MeasuredProfile& r) {
              {{"median", num(ff.median)}, {"p90", num(ff.p90)}, {"mae", num(ff.mae)}, {"rmse", num(ff.rmse)}},
             },
             {"within_0_1m", num(ff.within)},
-            {"by_surface_angle_from_vertical", [&f] {
-               json bands = json::array();
-               for (const auto& b : mapping::fusion_figures_by_slope(f.err, f.surface_deg))
-                 bands.push_back({{"from_deg", b.lo_deg},
-                                  {"to_deg", b.hi_deg},
-                                  {"points", b.points},
-                                  {"median", num(b.figures.median)},
-                                  {"p90", num(b.figures.p90)},
-                                  {"mae", num(b.figures.mae)},
-                                  {"rmse", num(b.figures.rmse)}});
-               return bands;
-             }()},
+            {"by_surface_angle_from_vertical", slope_bands_json(f.err, f.surface_deg)},
+            {"elevation_sigma",
+             {{"v_return", calibration_json(mapping::sigma_calibration(f, false))},
+              {"sloped_face", calibration_json(mapping::sigma_calibration(f, true))}}},
+            {"mapped",
+             {{"max_elevation_sigma_deg", r.max_elevation_sigma_deg},
+              {"points", mp.err.size()},
+              {"share", ratio(static_cast<double>(mp.err.size()), static_cast<double>(f.err.size()))},
+              {"distance_to_mesh_m",
+               {{"median", num(mf.median)}, {"p90", num(mf.p90)}, {"mae", num(mf.mae)}, {"rmse", num(mf.rmse)}}},
+              {"within_0_1m", num(mf.within)},
+              {"by_surface_angle_from_vertical", slope_bands_json(mp.err, mp.surface_deg)}}},
             {"association_bound", [&f] {
                const mapping::AssociationBound b = mapping::association_bound(f);
                return json{{"mae_fused", num(b.mae_fused)},
@@ -206,6 +231,7 @@ Status PerceptionCheck::measure_fixture() {
   MeasuredProfile m;
   m.profile = fixture_metadata("profile").empty() ? "unknown" : fixture_metadata("profile");
   m.label = "fixture";
+  m.max_elevation_sigma_deg = run_.pipeline.max_elevation_sigma_deg;
   m.heading = "fixture " + o_.fixture + " (profile " + m.profile + ", as recorded)";
   if (Status s = measure_source(*fixture_, fixture_fusion_, scene_.mesh, o_.every, o_.fixture, m, o_.keep_points); !s)
     return s;
@@ -232,6 +258,7 @@ Status PerceptionCheck::measure_profiles() {
     cfg.T_V_v = sc.T_V_v;
     MeasuredProfile m;
     m.label = sim::profile_name(profile);
+    m.max_elevation_sigma_deg = run_.pipeline.max_elevation_sigma_deg;
     m.heading = std::string("profile ") + m.label;
     m.profile = sim::profile_name(sc.profile);
     if (sc.profile != profile) m.note = "(the sim config sets profile: " + m.profile + ")";
@@ -298,13 +325,17 @@ Status write_cloud(const std::string& path, const mapping::FusionTally& f) {
   std::vector<Eigen::Vector3f> xyz;
   std::vector<sim::PlyScalar> scalars = {{"distance_m", {}},    {"range_m", {}},    {"bearing_deg", {}},
                                          {"elevation_deg", {}}, {"confidence", {}}, {"stamp_s", {}},
-                                         {"surface_deg", {}}, {"sloped_face", {}}};
+                                         {"surface_deg", {}}, {"sloped_face", {}},
+                                         {"elevation_error_deg", {}}, {"elevation_sigma_deg", {}},
+                                         {"run_m", {}}, {"bin_spread_deg", {}}, {"bin_candidates", {}}};
   constexpr double kDeg = 180.0 / std::numbers::pi;
   for (size_t i = 0; i < f.points.size(); ++i) {
     const mapping::FusionTally::Point& p = f.points[i];
     xyz.push_back(p.p_W);
     const double values[] = {f.err[i],   p.range_m, p.bearing_rad * kDeg, p.elevation_rad * kDeg,
-                             p.confidence, p.stamp_s, f.surface_deg[i], p.sloped_face ? 1.0 : 0.0};
+                             p.confidence, p.stamp_s, f.surface_deg[i], p.sloped_face ? 1.0 : 0.0,
+                             f.elevation_error_rad[i] * kDeg, f.elevation_sigma_rad[i] * kDeg, p.run_m,
+                             p.bin_spread_rad * kDeg, static_cast<double>(f.bin_candidates_v[i])};
     for (size_t k = 0; k < scalars.size(); ++k) scalars[k].values.push_back(static_cast<float>(values[k]));
   }
   return sim::write_ply_points(xyz, scalars, "orthosonar perception-check: fused points placed with the true pose",

@@ -43,6 +43,7 @@ struct MeasuredProfile {
   std::string heading;  // "profile field", "fixture F.mcap (profile clean, as recorded)"
   std::string profile;  // the profile of the images (effective / recorded)
   std::string note;     // e.g. "(the sim config sets profile: clean)"
+  double max_elevation_sigma_deg = 0;  // the run config's mapping.max_elevation_sigma_deg
   mapping::PerceptionMeasurement m;
 };
 

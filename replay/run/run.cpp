@@ -153,6 +153,7 @@ std::vector<std::pair<std::string, int64_t>> count_fields(const mapping::Pipelin
           {"detections_h", c.detections_h}, {"detections_v", c.detections_v},
           {"matches", c.matches},     {"culled_low_confidence", c.culled_low_confidence},
           {"fused_points", c.fused_points}, {"fused_sloped_face", c.fused_sloped_face},
+          {"withheld_uncertain", c.withheld_uncertain},
           {"keyframes", c.keyframes},
           {"loop_closures", c.loop_closures},
           {"dvl_rejected_invalid", static_cast<int64_t>(dr.dvl_invalid)},

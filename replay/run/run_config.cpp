@@ -107,6 +107,10 @@ Table root_table(RunConfig& c) {
                       {"slope_run_max_gap", kKeys.integer(f.slope_run_max_gap, 0, 100)},
                       {"slope_v_span_deg", kKeys.real(f.slope_v_span_deg, 0.0, 90.0)},
                       {"slope_top_from_v", kKeys.boolean(f.slope_top_from_v)},
+                      {"sigma_v_deg", kKeys.real(f.sigma_v_deg, 0.0, 90.0)},
+                      {"sigma_v_per_wall_deg", kKeys.real(f.sigma_v_per_wall_deg, 0.0, 90.0)},
+                      {"sigma_slope_near_deg", kKeys.real(f.sigma_slope_near_deg, 0.0, 90.0)},
+                      {"sigma_slope_far_deg", kKeys.real(f.sigma_slope_far_deg, 0.0, 90.0)},
                       {"T_V_h", kKeys.pose(f.T_V_h)},
                       {"T_V_v", kKeys.pose(f.T_V_v)},
                       {"cfar_h", kKeys.nested([&f] { return cfar_table(f.cfar_h); })},
@@ -220,6 +224,7 @@ Table root_table(RunConfig& c) {
        })},
       {"mapping", kKeys.nested([&c] {
          return Table{{"fusion_batch_pairs", kKeys.integer(c.pipeline.fusion_batch_pairs, 1, 4096)},
+                      {"max_elevation_sigma_deg", kKeys.real(c.pipeline.max_elevation_sigma_deg, 0.0, 90.0)},
                       {"voxel_m", kKeys.real(c.voxel_m, 0.01, 100.0)},
                       {"octomap_resolution_m", kKeys.real(c.octomap_resolution_m, 0.01, 100.0)}};
        })},
@@ -293,6 +298,8 @@ nlohmann::json config_to_json(const RunConfig& c) {
                   {"slope_run_ratio", f.slope_run_ratio}, {"slope_run_floor", f.slope_run_floor},
                   {"slope_run_max_gap", f.slope_run_max_gap}, {"slope_v_span_deg", f.slope_v_span_deg},
                   {"slope_top_from_v", f.slope_top_from_v},
+                  {"sigma_v_deg", f.sigma_v_deg}, {"sigma_v_per_wall_deg", f.sigma_v_per_wall_deg},
+                  {"sigma_slope_near_deg", f.sigma_slope_near_deg}, {"sigma_slope_far_deg", f.sigma_slope_far_deg},
                   {"T_V_h", pose6_string(f.T_V_h)}, {"T_V_v", pose6_string(f.T_V_v)},
                   {"cfar_h", cfar_json(f.cfar_h)}, {"cfar_v", cfar_json(f.cfar_v)}}},
       {"dr",
@@ -353,7 +360,8 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"icp", {{"max_iterations", s.icp.max_iterations},
                          {"max_correspondence_m", s.icp.max_correspondence_m},
                          {"trim_fraction", s.icp.trim_fraction}}}}},
-      {"mapping", {{"fusion_batch_pairs", c.pipeline.fusion_batch_pairs}, {"voxel_m", c.voxel_m},
+      {"mapping", {{"fusion_batch_pairs", c.pipeline.fusion_batch_pairs},
+                   {"max_elevation_sigma_deg", c.pipeline.max_elevation_sigma_deg}, {"voxel_m", c.voxel_m},
                    {"octomap_resolution_m", c.octomap_resolution_m}}},
   };
 }

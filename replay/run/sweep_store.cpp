@@ -184,7 +184,7 @@ std::vector<perception::Detection> get_detections(Reader& r) {
 constexpr float perception::FusedPoint::*kPointFloats[] = {
     &perception::FusedPoint::range_m,     &perception::FusedPoint::bearing_rad, &perception::FusedPoint::elevation_rad,
     &perception::FusedPoint::intensity_h, &perception::FusedPoint::intensity_v, &perception::FusedPoint::confidence,
-    &perception::FusedPoint::run_near_m,  &perception::FusedPoint::run_far_m};
+    &perception::FusedPoint::run_near_m,  &perception::FusedPoint::run_far_m,   &perception::FusedPoint::elevation_sigma_rad};
 
 struct CCtxFree {
   void operator()(ZSTD_CCtx* c) const { ZSTD_freeCCtx(c); }

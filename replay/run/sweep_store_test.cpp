@@ -92,6 +92,7 @@ perception::FusionResult store_test_fusion(uint32_t seed) {
     p.confidence = -0.0f;
     p.run_near_m = u(rng);
     p.run_far_m = u(rng);
+    p.elevation_sigma_rad = u(rng);
     p.elevation_from = rng() % 2 ? perception::FusedPoint::Elevation::sloped_face : perception::FusedPoint::Elevation::v_return;
     r.points.push_back(p);
   }
@@ -121,6 +122,7 @@ void check_same_fusion(const perception::FusionResult& a, const perception::Fusi
     CHECK(store_same_bits(p.range_m, q.range_m));
     CHECK(store_same_bits(p.bearing_rad, q.bearing_rad));
     CHECK(store_same_bits(p.elevation_rad, q.elevation_rad));
+    CHECK(store_same_bits(p.elevation_sigma_rad, q.elevation_sigma_rad));
     CHECK(store_same_bits(p.intensity_h, q.intensity_h));
     CHECK(store_same_bits(p.intensity_v, q.intensity_v));
     CHECK(store_same_bits(p.run_near_m, q.run_near_m));
