@@ -109,16 +109,10 @@ Run measure_run(const SonarPing& h, const Candidate& a, RowMedians& medians_h, c
   return {h.range_of_row(r0), h.range_of_row(r1)};
 }
 
-// The elevation the run gives when it is a sloped face filling the aperture
-// (FusionConfig::slope_run_ratio, slope_v_span_deg, slope_top_from_v); nullopt otherwise.
-// `range` is Eq. 3's, `lim` the half-aperture, `dets_v` the v detections, row-major.
-std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v, const std::vector<Detection>& dets_v,
-                                         const Candidate& a, const Run& run, double range, double lim,
-                                         const FusionConfig& config) {
-  const double near = run.near_m, far = run.far_m;
-  const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
-  if (far - near < config.slope_run_ratio * wall) return std::nullopt;
-  // The elevations at which the v image sees anything in the overlap over the run's ranges.
+// The elevations [lo, hi] at which the v image sees anything in the overlap (|φ| <= lim) over
+// the ranges [near, far]; lo > hi when it sees nothing there.
+std::pair<double, double> v_span(const SonarPing& v, const std::vector<Detection>& dets_v, double near, double far,
+                                 double lim) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   const auto first = std::lower_bound(dets_v.begin(), dets_v.end(), near,
                                       [&](const Detection& d, double r) { return v.range_of_row(d.row) < r; });
@@ -128,6 +122,19 @@ std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v,
     lo = std::min(lo, e);
     hi = std::max(hi, e);
   }
+  return {lo, hi};
+}
+
+// The elevation the run gives when it is a sloped face filling the aperture
+// (FusionConfig::slope_run_ratio, slope_v_span_deg, slope_top_from_v); nullopt otherwise.
+// `range` is Eq. 3's, `lim` the half-aperture, `dets_v` the v detections, row-major.
+std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v, const std::vector<Detection>& dets_v,
+                                         const Candidate& a, const Run& run, double range, double lim,
+                                         const FusionConfig& config) {
+  const double near = run.near_m, far = run.far_m;
+  const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
+  if (far - near < config.slope_run_ratio * wall) return std::nullopt;
+  const auto [lo, hi] = v_span(v, dets_v, near, far, lim);
   // A face that fills the h sonar's aperture fills the v sonar's fan over the same ranges.
   if (config.slope_v_span_deg > 0.0 && !(hi - lo >= config.slope_v_span_deg * kDeg)) return std::nullopt;
   std::optional<double> e = sloped_face_elevation(near, far, h.range_of_row(a.row), lim);
