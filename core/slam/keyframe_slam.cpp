@@ -340,6 +340,14 @@ void KeyframeSlam::loop_closure(int id) {
   const IcpResult icp = icp_2d(source, target, T_anchor_new, icp_config);
   Factor f{FactorKind::kLoopClosure, anchor, id, icp.T_target_source,
            dr_from_sensors_ ? config_.sigma_loop_gyro : config_.sigma_loop, false, ""};
+  // With a gyro only (docs/SLAM.md "Loop error against baseline"): on a drifting AHRS the
+  // long loops are what corrects the heading, and weighing them less costs more than their
+  // translation error.
+  if (dr_from_sensors_ && config_.sigma_loop_per_m > 0.0) {
+    const double grow = config_.sigma_loop_per_m * std::hypot(icp.T_target_source.x, icp.T_target_source.y);
+    f.sigma.x() = std::hypot(f.sigma.x(), grow);
+    f.sigma.y() = std::hypot(f.sigma.y(), grow);
+  }
   for (int k : ids)
     f.target_span_m = std::max(f.target_span_m, std::abs(path_m_[static_cast<size_t>(k)] - path_m_[static_cast<size_t>(anchor)]));
   if (!icp.converged) {

@@ -397,6 +397,35 @@ TEST_CASE("With a FOG's DR factor and nssm_fixed_heading_gyro, loops are transla
   CHECK(ahrs.accepted_loop_closures() >= 1);
 }
 
+TEST_CASE("With a FOG's DR factor a loop's x/y sigma grows with its length (sigma_loop_per_m), without one it does not",
+          "[unit]") {
+  // Two laps of the basin: every loop factor's x/y sigma is hypot(sigma_loop_gyro, k |t|), t
+  // its measured translation; 0 leaves them at sigma_loop_gyro; the AHRS graph keeps sigma_loop.
+  SlamConfig config;
+  config.sigma_loop_per_m = 0.05;
+  const KeyframeSlam fog = fly_basin(config, 2, {0.015, 0.0002});
+  size_t loops = 0;
+  double longest = 0.0;
+  for (const auto& f : fog.factors()) {
+    if (f.kind != FactorKind::kLoopClosure) continue;
+    ++loops;
+    const double length = std::hypot(f.T_from_to.x, f.T_from_to.y);
+    longest = std::max(longest, length);
+    const double expected = std::hypot(config.sigma_loop_gyro.x(), 0.05 * length);
+    CHECK(f.sigma.x() == Approx(expected));
+    CHECK(f.sigma.y() == Approx(std::hypot(config.sigma_loop_gyro.y(), 0.05 * length)));
+    CHECK(f.sigma.z() == config.sigma_loop_gyro.z());
+  }
+  REQUIRE(loops >= 1);
+  CHECK(longest > 1.0);  // the growth is exercised, not only its zero
+  config.sigma_loop_per_m = 0.0;
+  for (const auto& f : fly_basin(config, 2, {0.015, 0.0002}).factors())
+    if (f.kind == FactorKind::kLoopClosure) CHECK(f.sigma == config.sigma_loop_gyro);
+  config.sigma_loop_per_m = 0.05;
+  for (const auto& f : fly_basin(config, 2, {0.015, std::nullopt}).factors())
+    if (f.kind == FactorKind::kLoopClosure) CHECK(f.sigma == config.sigma_loop);
+}
+
 TEST_CASE("nssm_target_same_pass: a loop's target is the anchor's own pass along the DR path", "[unit]") {
   // Three laps of the basin: a third-lap loop's nearest candidates come from both earlier
   // laps. By default some loop's target spans keyframes of different laps; with the option

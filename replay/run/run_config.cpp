@@ -182,6 +182,7 @@ Table root_table(RunConfig& c) {
                                            })},
                       {"loop_loss_scale", kKeys.real(s.loop_loss_scale, 0.0, 1000.0, true)},
                       {"loop_correlation_m", kKeys.real(s.loop_correlation_m, 0.0, 1000.0)},
+                      {"sigma_loop_per_m", kKeys.real(s.sigma_loop_per_m, 0.0, 10.0)},
                       {"dr_sigma_model", kKeys.choice("auto, constant, sensors",
                                                 [&s](const std::string& v) {
                                                   for (auto m : slam::SlamConfig::kDrSigmaModels)
@@ -345,6 +346,7 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"heading_link_white_deg", s.heading_link_white_deg},
                 {"loop_loss", slam::loss_name(s.loop_loss)},
                 {"loop_loss_scale", s.loop_loss_scale}, {"loop_correlation_m", s.loop_correlation_m},
+                {"sigma_loop_per_m", s.sigma_loop_per_m},
                 {"dr_sigma_model", slam::SlamConfig::dr_sigma_model_name(s.dr_sigma_model)},
                 {"dr_translation_sigma_min_m", s.dr_translation_sigma_min_m},
                 {"solver", {{"max_iterations", s.solver.max_iterations},
