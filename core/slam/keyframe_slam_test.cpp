@@ -419,10 +419,12 @@ TEST_CASE("With a FOG's DR factor a loop's x/y sigma grows with its length (sigm
   REQUIRE(loops >= 1);
   CHECK(longest > 1.0);  // the growth is exercised, not only its zero
   config.sigma_loop_per_m = 0.0;
-  for (const auto& f : fly_basin(config, 2, {0.015, 0.0002}).factors())
+  const KeyframeSlam off = fly_basin(config, 2, {0.015, 0.0002});  // named: factors() is a member
+  for (const auto& f : off.factors())
     if (f.kind == FactorKind::kLoopClosure) CHECK(f.sigma == config.sigma_loop_gyro);
   config.sigma_loop_per_m = 0.05;
-  for (const auto& f : fly_basin(config, 2, {0.015, std::nullopt}).factors())
+  const KeyframeSlam ahrs = fly_basin(config, 2, {0.015, std::nullopt});
+  for (const auto& f : ahrs.factors())
     if (f.kind == FactorKind::kLoopClosure) CHECK(f.sigma == config.sigma_loop);
 }
 
