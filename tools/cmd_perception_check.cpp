@@ -21,7 +21,6 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
-#include <numbers>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -109,7 +108,7 @@ void print_measured(const MeasuredProfile& r) {
                 b.hi_deg, b.points, b.figures.mae, b.figures.rmse, b.figures.p90);
   std::printf("\n");
   // What the maps take, and how honest the elevation σ is (issue 34).
-  const mapping::MappedPoints mp = mapping::mapped_points(f, r.max_elevation_sigma_deg * std::numbers::pi / 180.0);
+  const mapping::MappedPoints mp = mapping::mapped_points(f, r.max_elevation_sigma_deg);
   const mapping::FusionFigures mf = mapping::fusion_figures(mp.err);
   std::printf("  mapped (elevation sigma <= %.2f deg): %zu points (%.3f of fused), MAE %.3f RMSE %.3f p90 %.3f\n",
               r.max_elevation_sigma_deg, mp.err.size(), ratio(d(mp.err.size()), d(f.err.size())), mf.mae, mf.rmse, mf.p90);

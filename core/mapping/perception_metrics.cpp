@@ -59,11 +59,10 @@ AssociationBound association_bound(const FusionTally& f) {
   return b;
 }
 
-MappedPoints mapped_points(const FusionTally& f, double max_sigma_rad) {
+MappedPoints mapped_points(const FusionTally& f, double max_sigma_deg) {
   MappedPoints m;
   for (size_t i = 0; i < f.err.size(); ++i)
-    if (max_sigma_rad <= 0.0 || i >= f.elevation_sigma_rad.size() ||
-        f.elevation_sigma_rad[i] <= static_cast<float>(max_sigma_rad)) {
+    if (i >= f.elevation_sigma_rad.size() || perception::elevation_mappable(f.elevation_sigma_rad[i], max_sigma_deg)) {
       m.err.push_back(f.err[i]);
       m.surface_deg.push_back(f.surface_deg[i]);
     }
@@ -210,9 +209,14 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
           const Vec3 q_V = cfg_.T_V_h * spherical_to_cartesian(p.range_m, p.bearing_rad, phi);
           return dist_.nearest(*T_W_V * q_V).distance;
         };
-        double best_c = near.distance;
-        for (uint32_t k = 0; k < p.bin_count && p.bin_first + k < r.bin_elevations_rad.size(); ++k)
-          best_c = std::min(best_c, dist_at(r.bin_elevations_rad[p.bin_first + k]));
+        // The bin's v candidates: the best of them, and their spread about the chosen elevation.
+        double best_c = near.distance, spread = 0.0;
+        for (uint32_t k = 0; k < p.bin_count && p.bin_first + k < r.bin_elevations_rad.size(); ++k) {
+          const double e = r.bin_elevations_rad[p.bin_first + k];
+          best_c = std::min(best_c, dist_at(e));
+          spread += (e - p.elevation_rad) * (e - p.elevation_rad);
+        }
+        spread = p.bin_count > 0 ? std::sqrt(spread / p.bin_count) : 0.0;
         arc.resize(static_cast<size_t>(2 * bound_steps + 1));
         double best_e = near.distance;
         for (int k = -bound_steps; k <= bound_steps; ++k)
@@ -233,16 +237,9 @@ void PerceptionMeter::measure_pair(const SonarPing& h, const SonarPing& v) {
         f.elevation_error_rad.push_back(elev_err);
         f.elevation_sigma_rad.push_back(p.elevation_sigma_rad);
         f.from_sloped_face.push_back(sloped ? 1 : 0);
-        if (f.keep_points) {
-          double spread = 0;
-          for (uint32_t k = 0; k < p.bin_count && p.bin_first + k < r.bin_elevations_rad.size(); ++k) {
-            const double d = r.bin_elevations_rad[p.bin_first + k] - p.elevation_rad;
-            spread += d * d;
-          }
-          spread = p.bin_count > 0 ? std::sqrt(spread / p.bin_count) : 0.0;
+        if (f.keep_points)
           f.points.push_back({p_W.cast<float>(), p.range_m, p.bearing_rad, p.elevation_rad, p.confidence,
                               h.stamp.seconds(), sloped, p.run_far_m - p.run_near_m, static_cast<float>(spread)});
-        }
       }
   }
   labels_.erase(labels_.begin(), labels_.upper_bound({0, h.ping_id}));

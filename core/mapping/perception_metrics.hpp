@@ -104,12 +104,13 @@ struct SlopeBand {
 std::vector<SlopeBand> fusion_figures_by_slope(const std::vector<double>& err, const std::vector<float>& surface_deg);
 
 // Issue 34 (docs/PERCEPTION.md "Elevation uncertainty"). The points the maps take: err and
-// surface_deg of the points whose elevation σ is at most max_sigma_rad (0: every point).
+// surface_deg of the points perception::elevation_mappable keeps under max_sigma_deg (0:
+// every point).
 struct MappedPoints {
   std::vector<double> err;
   std::vector<float> surface_deg;
 };
-MappedPoints mapped_points(const FusionTally& f, double max_sigma_rad);
+MappedPoints mapped_points(const FusionTally& f, double max_sigma_deg);
 
 // How well the elevation σ predicts the elevation error, over the points of one source
 // (sloped_face: the run's; otherwise the v return's) that have an elevation error: their count,

@@ -156,7 +156,7 @@ TEST_CASE("mapped points and the elevation sigma's calibration", "[unit]") {
   f.elevation_error_rad = {0.5 * deg, -4.0 * deg, std::nan(""), -3.0 * deg, 0.25 * deg};
   f.from_sloped_face = {0, 0, 0, 1, 1};
   // At most 2 deg: points 0, 2, 3, 4 (the bound is inclusive); 0 keeps every point.
-  const MappedPoints m = mapped_points(f, 2.0 * deg);
+  const MappedPoints m = mapped_points(f, 2.0);
   REQUIRE(m.err.size() == 4);
   CHECK(m.err[1] == 0.3);
   CHECK(m.surface_deg[3] == 40.0f);

@@ -1,7 +1,6 @@
 #include "core/mapping/pipeline.hpp"
 
 #include <algorithm>
-#include <numbers>
 #include <variant>
 
 #include "core/slam/planar_cloud.hpp"
@@ -195,8 +194,9 @@ void Pipeline::process_fused(const PendingPair& p, const perception::FusionResul
   const perception::FusionResult* mapped = &fused;
   perception::FusionResult kept;
   if (config_.max_elevation_sigma_deg > 0.0) {
-    const auto max_sigma = static_cast<float>(config_.max_elevation_sigma_deg * std::numbers::pi / 180.0);
-    const auto uncertain = [max_sigma](const perception::FusedPoint& q) { return q.elevation_sigma_rad > max_sigma; };
+    const auto uncertain = [max_deg = config_.max_elevation_sigma_deg](const perception::FusedPoint& q) {
+      return !perception::elevation_mappable(q.elevation_sigma_rad, max_deg);
+    };
     if (const auto n = std::count_if(fused.points.begin(), fused.points.end(), uncertain); n > 0) {
       counts_.withheld_uncertain += n;
       kept = fused;  // detections and all: a mapping system may read them (inference does)

@@ -87,6 +87,10 @@ void rot90(const float* in, int side, float* out) {
     for (int b = 0; b < side; ++b) out[a * side + b] = in[b * side + (side - 1 - a)];
 }
 
+// The run a vertical wall facing the sonar gives at `range_m` across the h sonar's elevation
+// aperture ±half_aperture_rad: R (1/cos a - 1). Sloped faces and the elevation σ count runs in it.
+double wall_run_m(double range_m, double half_aperture_rad) { return range_m * (1.0 / std::cos(half_aperture_rad) - 1.0); }
+
 // Issue 34 (docs/PERCEPTION.md "Sloped faces"): the run of h return `a` along its beam (the
 // ranges of its ends). Measured for every point: its length also sets the point's elevation σ.
 struct Run {
@@ -132,8 +136,7 @@ std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v,
                                          const Candidate& a, const Run& run, double range, double lim,
                                          const FusionConfig& config) {
   const double near = run.near_m, far = run.far_m;
-  const double wall = range * (1.0 / std::cos(lim) - 1.0);  // a vertical wall's run across the aperture
-  if (far - near < config.slope_run_ratio * wall) return std::nullopt;
+  if (far - near < config.slope_run_ratio * wall_run_m(range, lim)) return std::nullopt;
   const auto [lo, hi] = v_span(v, dets_v, near, far, lim);
   // A face that fills the h sonar's aperture fills the v sonar's fan over the same ranges.
   if (config.slope_v_span_deg > 0.0 && !(hi - lo >= config.slope_v_span_deg * kDeg)) return std::nullopt;
@@ -390,9 +393,13 @@ double elevation_sigma(const FusionConfig& config, FusedPoint::Elevation from, d
         half_aperture_rad > 0.0 ? std::clamp((elevation_rad + half_aperture_rad) / (2.0 * half_aperture_rad), 0.0, 1.0) : 0.0;
     return (config.sigma_slope_near_deg + (config.sigma_slope_far_deg - config.sigma_slope_near_deg) * t) * kDeg;
   }
-  const double wall = range_m * (1.0 / std::cos(half_aperture_rad) - 1.0);
+  const double wall = wall_run_m(range_m, half_aperture_rad);
   const double walls = wall > 0.0 && run_m > 0.0 ? run_m / wall : 0.0;
   return (config.sigma_v_deg + config.sigma_v_per_wall_deg * std::max(0.0, walls - 1.0)) * kDeg;
+}
+
+bool elevation_mappable(float sigma_rad, double max_deg) {
+  return max_deg <= 0.0 || sigma_rad <= static_cast<float>(max_deg * kDeg);
 }
 
 std::vector<Eigen::Vector3d> points_V_at_elevation(const SonarPing& h, const std::vector<Detection>& dets,

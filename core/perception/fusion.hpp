@@ -100,8 +100,9 @@ struct FusedPoint {
   Elevation elevation_from = Elevation::v_return;
   float run_near_m = 0, run_far_m = 0;  // the h return's run (both 0 when not measured)
   // The elevation's standard uncertainty (rad, issue 34; docs/PERCEPTION.md "Elevation
-  // uncertainty"): from the spread of the v candidates Eq. 6 chose among, or from the run's
-  // length. Mapping withholds points whose range × σ exceeds MapFilter::max_point_sigma_m.
+  // uncertainty"): a v return's from its h run's length in wall-lengths, a sloped face's from
+  // its place along the run (elevation_sigma). The maps withhold points whose σ exceeds
+  // PipelineConfig::max_elevation_sigma_deg (elevation_mappable).
   float elevation_sigma_rad = 0;
   // The v candidates of this point's range bin (the alternatives Eq. 6 chose among):
   // FusionResult::bin_elevations_rad[bin_first, bin_first + bin_count). For diagnosis
@@ -139,6 +140,11 @@ std::optional<double> sloped_face_elevation(double near_m, double far_m, double 
 // its elevation, `half_aperture_rad` a. Exposed for tests.
 double elevation_sigma(const FusionConfig& config, FusedPoint::Elevation from, double run_m, double range_m,
                        double elevation_rad, double half_aperture_rad);
+
+// Whether a point of elevation σ `sigma_rad` is mapped under a limit of `max_deg` degrees
+// (PipelineConfig::max_elevation_sigma_deg; 0 or less: every point is). The pipeline's maps
+// and perception-check's mapped figures both ask this.
+bool elevation_mappable(float sigma_rad, double max_deg);
 
 // Median intensity of each row (the lower median; raw image units), computed on demand and
 // kept: the local noise floor of the fusion gate. Exposed for tests.

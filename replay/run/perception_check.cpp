@@ -93,8 +93,7 @@ json calibration_json(const mapping::SigmaCalibration& c) {
 json measured_json(const MeasuredProfile& r) {
   const mapping::FusionTally& f = r.m.fusion;
   const mapping::FusionFigures ff = mapping::fusion_figures(f.err);
-  const double deg = std::numbers::pi / 180.0;
-  const mapping::MappedPoints mp = mapping::mapped_points(f, r.max_elevation_sigma_deg * deg);
+  const mapping::MappedPoints mp = mapping::mapped_points(f, r.max_elevation_sigma_deg);
   const mapping::FusionFigures mf = mapping::fusion_figures(mp.err);
   return {{"label", r.label},
           {"profile", r.profile},
