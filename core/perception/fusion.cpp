@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/perception/assignment.hpp"
+#include "core/perception/elevation.hpp"
 
 namespace orthosonar::perception {
 namespace {
@@ -85,66 +86,6 @@ void patch_of(const SonarPing& p, int row, int col, int half, double inv, float*
 void rot90(const float* in, int side, float* out) {
   for (int a = 0; a < side; ++a)
     for (int b = 0; b < side; ++b) out[a * side + b] = in[b * side + (side - 1 - a)];
-}
-
-// The run a vertical wall facing the sonar gives at `range_m` across the h sonar's elevation
-// aperture ±half_aperture_rad: R (1/cos a - 1). Sloped faces and the elevation σ count runs in it.
-double wall_run_m(double range_m, double half_aperture_rad) { return range_m * (1.0 / std::cos(half_aperture_rad) - 1.0); }
-
-// Issue 34 (docs/PERCEPTION.md "Sloped faces"): the run of h return `a` along its beam (the
-// ranges of its ends). Measured for every point: its length also sets the point's elevation σ.
-struct Run {
-  double near_m = 0, far_m = 0;
-};
-
-Run measure_run(const SonarPing& h, const Candidate& a, RowMedians& medians_h, const FusionConfig& config) {
-  const double floor = std::max(config.noise_floor_factor > 0.0
-                                    ? config.noise_floor_factor * medians_h.local_floor(a.row, config.noise_floor_rows)
-                                    : 0.0,
-                                config.slope_run_floor * a.intensity);
-  const int gap = std::max(0, config.slope_run_max_gap);
-  int r0 = a.row, r1 = a.row;
-  for (int r = a.row - 1, g = 0; r >= 0 && g <= gap; --r) {
-    if (h.at(r, a.col) >= floor) { r0 = r; g = 0; } else { ++g; }
-  }
-  for (int r = a.row + 1, g = 0; r < h.rows && g <= gap; ++r) {
-    if (h.at(r, a.col) >= floor) { r1 = r; g = 0; } else { ++g; }
-  }
-  return {h.range_of_row(r0), h.range_of_row(r1)};
-}
-
-// The elevations [lo, hi] at which the v image sees anything in the overlap (|φ| <= lim) over
-// the ranges [near, far]; lo > hi when it sees nothing there.
-std::pair<double, double> v_span(const SonarPing& v, const std::vector<Detection>& dets_v, double near, double far,
-                                 double lim) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  const auto first = std::lower_bound(dets_v.begin(), dets_v.end(), near,
-                                      [&](const Detection& d, double r) { return v.range_of_row(d.row) < r; });
-  for (auto it = first; it != dets_v.end() && v.range_of_row(it->row) <= far; ++it) {
-    const double e = v.bearings_rad[static_cast<size_t>(it->col)];
-    if (std::abs(e) > lim) continue;
-    lo = std::min(lo, e);
-    hi = std::max(hi, e);
-  }
-  return {lo, hi};
-}
-
-// The elevation the run gives when it is a sloped face filling the aperture
-// (FusionConfig::slope_run_ratio, slope_v_span_deg, slope_top_from_v); nullopt otherwise.
-// `range` is Eq. 3's, `lim` the half-aperture, `dets_v` the v detections, row-major.
-std::optional<double> elevation_from_run(const SonarPing& h, const SonarPing& v, const std::vector<Detection>& dets_v,
-                                         const Candidate& a, const Run& run, double range, double lim,
-                                         const FusionConfig& config) {
-  const double near = run.near_m, far = run.far_m;
-  if (far - near < config.slope_run_ratio * wall_run_m(range, lim)) return std::nullopt;
-  const auto [lo, hi] = v_span(v, dets_v, near, far, lim);
-  // A face that fills the h sonar's aperture fills the v sonar's fan over the same ranges.
-  if (config.slope_v_span_deg > 0.0 && !(hi - lo >= config.slope_v_span_deg * kDeg)) return std::nullopt;
-  std::optional<double> e = sloped_face_elevation(near, far, h.range_of_row(a.row), lim);
-  // No higher than the v image sees the face over the run: where the face ends inside the
-  // aperture (a crest at long range), the run's far end is that top, not +a.
-  if (e && config.slope_top_from_v && hi >= lo) e = std::min(*e, hi);
-  return e;
 }
 
 }  // namespace
@@ -342,11 +283,11 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
       const double theta = h.bearings_rad[static_cast<size_t>(a.col)];
       double phi = v.bearings_rad[static_cast<size_t>(b.col)];
       FusedPoint fp;
-      const Run run = measure_run(h, a, medians_h, config);
+      const RunExtent run = measure_run(h, a.row, a.col, a.intensity, medians_h, config);
       fp.run_near_m = static_cast<float>(run.near_m);
       fp.run_far_m = static_cast<float>(run.far_m);
       if (config.slope_run_ratio > 0.0) {
-        if (const auto e = elevation_from_run(h, v, res.detections_v, a, run, range, lim, config)) {
+        if (const auto e = elevation_from_run(h, v, res.detections_v, a.row, run, range, lim, config)) {
           phi = *e;
           fp.elevation_from = FusedPoint::Elevation::sloped_face;
           ++res.sloped_face;
@@ -375,31 +316,6 @@ FusionResult fuse_pair(const SonarPing& h, const SonarPing& v, const FusionConfi
     j0 = j1;
   }
   return res;
-}
-
-std::optional<double> sloped_face_elevation(double near_m, double far_m, double range_m, double half_aperture_rad) {
-  if (!(far_m > near_m) || !(half_aperture_rad > 0.0) || !std::isfinite(range_m)) return std::nullopt;
-  // Linear in range across the aperture. The plane through the run's ends (r(φ) = D / (cos φ -
-  // τ sin φ)) was measured worse: 0.236 m MAE against 0.126 m on the breakwater, seed 1
-  // (docs/PERCEPTION.md "Sloped faces").
-  const double t = std::clamp((range_m - near_m) / (far_m - near_m), 0.0, 1.0);
-  return -half_aperture_rad + 2.0 * half_aperture_rad * t;
-}
-
-double elevation_sigma(const FusionConfig& config, FusedPoint::Elevation from, double run_m, double range_m,
-                       double elevation_rad, double half_aperture_rad) {
-  if (from == FusedPoint::Elevation::sloped_face) {
-    const double t =
-        half_aperture_rad > 0.0 ? std::clamp((elevation_rad + half_aperture_rad) / (2.0 * half_aperture_rad), 0.0, 1.0) : 0.0;
-    return (config.sigma_slope_near_deg + (config.sigma_slope_far_deg - config.sigma_slope_near_deg) * t) * kDeg;
-  }
-  const double wall = wall_run_m(range_m, half_aperture_rad);
-  const double walls = wall > 0.0 && run_m > 0.0 ? run_m / wall : 0.0;
-  return (config.sigma_v_deg + config.sigma_v_per_wall_deg * std::max(0.0, walls - 1.0)) * kDeg;
-}
-
-bool elevation_mappable(float sigma_rad, double max_deg) {
-  return max_deg <= 0.0 || sigma_rad <= static_cast<float>(max_deg * kDeg);
 }
 
 std::vector<Eigen::Vector3d> points_V_at_elevation(const SonarPing& h, const std::vector<Detection>& dets,
