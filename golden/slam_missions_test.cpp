@@ -144,15 +144,34 @@ constexpr const char* kDriftConfig =
 // Since loop closures need 25 points instead of 50 (2026-12-03) this mission closes 11 loops
 // on the hull and SLAM is 0.65 m here (0.31 m without them), while the 20 full-resolution
 // fixtures of docs/RESULTS.md improved: a known regression of this mission, bounded at 0.7 m.
-// Keyframe heading (issue 33; recorded 2026-12-07: DR 1.39 deg RMS, SLAM 0.54 deg): bounded
-// where it is, 0.6 deg, and to half of DR's. Issue 33's target, 0.3 deg, is not met here.
-TEST_CASE("harbor beyond one lap, drifting AHRS: SLAM within 0.7 m of truth and at most half of DR", "[golden]") {
+// Keyframe heading (issue 33; recorded 2026-12-07: DR 1.39 deg RMS, SLAM 0.54 deg).
+// Since 2026-12-08 the graph estimates the AHRS's heading drift and tests each loop's heading
+// against the chain by default (docs/SLAM.md "Heading drift on the AHRS"), and this seed is
+// the draw where that costs: 0.64 -> 0.90 m, heading 0.54 -> 0.80 deg. On seeds 1-4 of this
+// mission together it gains (SLAM ATE 0.64 / 3.99 / 0.82 / 0.63 m -> 0.90 / 0.44 / 0.86 /
+// 0.55 m; seed 2 is the next test), as on the 27 full-resolution fixtures of the same page.
+// Bounded where it is now: 1.0 m and 0.7 x DR, 0.9 deg and 0.65 x DR's heading. Issue 33's
+// 0.3 deg is not met here.
+TEST_CASE("harbor beyond one lap, drifting AHRS: SLAM within 1.0 m of truth and at most 0.7 of DR", "[golden]") {
   const auto r = fly(mission("harbor", 1000.0, 1));
   CHECK(r.connected);
-  CHECK(r.ate_slam <= 0.7);
-  CHECK(r.ate_slam <= 0.5 * r.ate_dr);
-  CHECK(r.heading_rms_slam_deg <= 0.6);
-  CHECK(r.heading_rms_slam_deg <= 0.5 * r.heading_rms_dr_deg);
+  CHECK(r.ate_slam <= 1.0);
+  CHECK(r.ate_slam <= 0.7 * r.ate_dr);
+  CHECK(r.heading_rms_slam_deg <= 0.9);
+  CHECK(r.heading_rms_slam_deg <= 0.65 * r.heading_rms_dr_deg);
+}
+
+// The same mission on seed 2, whose AHRS drifts most (DR heading 3.67 deg RMS, 4.83 m ATE):
+// without the drift state SLAM followed it (3.99 m, heading 2.78 deg); with it the rate
+// comes out of the loops on the hull and SLAM is 0.44 m, heading 0.51 deg (2026-12-08).
+TEST_CASE("harbor beyond one lap, seed 2, drifting AHRS: the drift taken out, SLAM within 0.6 m of truth", "[golden]") {
+  const auto r = fly(mission("harbor", 1000.0, 2));
+  CHECK(r.connected);
+  CHECK(r.drift_dps > 0.0);
+  CHECK(r.ate_slam <= 0.6);
+  CHECK(r.ate_slam <= 0.2 * r.ate_dr);
+  CHECK(r.heading_rms_slam_deg <= 0.7);
+  CHECK(r.heading_rms_slam_deg <= 0.25 * r.heading_rms_dr_deg);
 }
 
 // Keyframe heading (recorded 2026-12-07: DR 1.89 deg RMS, SLAM 0.44 deg): bounded at 0.5 deg

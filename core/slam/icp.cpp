@@ -113,6 +113,30 @@ std::vector<long> Grid2d::within(const Eigen::Vector2d& q, double radius) const 
   return out;
 }
 
+std::optional<Eigen::Vector2d> line_normal(const std::vector<Eigen::Vector2d>& target, const Grid2d& grid,
+                                           size_t j, double radius_m, double line_ratio) {
+  const auto nb = grid.within(target[j], radius_m);
+  if (nb.size() < 3) return std::nullopt;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (long k : nb) mean += target[static_cast<size_t>(k)];
+  mean /= static_cast<double>(nb.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (long k : nb) {
+    const Eigen::Vector2d d = target[static_cast<size_t>(k)] - mean;
+    cov += d * d.transpose();
+  }
+  // Closed-form eigen-decomposition of the symmetric 2x2 (no iterative solver).
+  const double a = cov(0, 0), b = cov(0, 1), d = cov(1, 1);
+  const double half_tr = 0.5 * (a + d), disc = std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+  const double small = half_tr - disc, large = half_tr + disc;
+  if (!(large > 0.0 && small <= line_ratio * large)) return std::nullopt;
+  // Eigenvector of the smaller eigenvalue: (b, small - a), or (small - d, b).
+  Eigen::Vector2d v(b, small - a);
+  if (v.squaredNorm() < 1e-24) v = Eigen::Vector2d(small - d, b);
+  if (v.squaredNorm() < 1e-24) v = Eigen::Vector2d(a <= d ? 1.0 : 0.0, a <= d ? 0.0 : 1.0);
+  return v.normalized();
+}
+
 FitInformation icp_fit_information(const std::vector<Eigen::Vector2d>& source,
                                    const std::vector<Eigen::Vector2d>& target, const SE2& T,
                                    const FitInformationConfig& config) {
@@ -129,33 +153,10 @@ FitInformation icp_fit_information(const std::vector<Eigen::Vector2d>& source,
     const Eigen::Vector2d dtheta(-s * p.x() - c * p.y(), c * p.x() - s * p.y());
     Eigen::Matrix<double, 2, 3> J;
     J << 1.0, 0.0, dtheta.x(), 0.0, 1.0, dtheta.y();
-    const auto nb = grid.within(target[static_cast<size_t>(j)], config.normal_radius_m);
-    bool line = false;
-    Eigen::Vector2d normal = Eigen::Vector2d::Zero();
-    if (nb.size() >= 3) {
-      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-      for (long k : nb) mean += target[static_cast<size_t>(k)];
-      mean /= static_cast<double>(nb.size());
-      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-      for (long k : nb) {
-        const Eigen::Vector2d d = target[static_cast<size_t>(k)] - mean;
-        cov += d * d.transpose();
-      }
-      // Closed-form eigen-decomposition of the symmetric 2x2 (no iterative solver).
-      const double a = cov(0, 0), b = cov(0, 1), d = cov(1, 1);
-      const double half_tr = 0.5 * (a + d), disc = std::sqrt(0.25 * (a - d) * (a - d) + b * b);
-      const double small = half_tr - disc, large = half_tr + disc;
-      if (large > 0.0 && small <= config.line_ratio * large) {
-        line = true;
-        // Eigenvector of the smaller eigenvalue: (b, small - a), or (small - d, b).
-        Eigen::Vector2d v(b, small - a);
-        if (v.squaredNorm() < 1e-24) v = Eigen::Vector2d(small - d, b);
-        if (v.squaredNorm() < 1e-24) v = Eigen::Vector2d(a <= d ? 1.0 : 0.0, a <= d ? 0.0 : 1.0);
-        normal = v.normalized();
-      }
-    }
-    if (line) {
-      const Eigen::RowVector3d row = normal.transpose() * J;
+    const std::optional<Eigen::Vector2d> normal =
+        line_normal(target, grid, static_cast<size_t>(j), config.normal_radius_m, config.line_ratio);
+    if (normal) {
+      const Eigen::RowVector3d row = normal->transpose() * J;
       out.hessian += row.transpose() * row;
       ++out.line_rows;
     } else {
@@ -203,6 +204,41 @@ SE2 align(const std::vector<Eigen::Vector2d>& src, const std::vector<Eigen::Vect
   return T;
 }
 
+// One Gauss-Newton step of the point-to-line metric (Censi 2008) about the moved source:
+// the increment T with T * moved ≈ target along each line's normal (one row), or in both
+// directions where the target is not a line (two rows). A wall leaves its along-direction
+// unobserved; the small damping keeps the step there at zero (the initial guess's).
+SE2 align_point_to_line(const std::vector<Eigen::Vector2d>& moved, const std::vector<Eigen::Vector2d>& tgt,
+                        const std::vector<Match>& m, const std::vector<std::optional<Eigen::Vector2d>>& normals,
+                        bool fix_rotation) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (const Match& c : m) {
+    const Eigen::Vector2d& p = moved[c.source];
+    const Eigen::Vector2d r = p - tgt[c.target];
+    Eigen::Matrix<double, 2, 3> J;
+    J << 1.0, 0.0, -p.y(), 0.0, 1.0, p.x();
+    if (const auto& n = normals[c.target]) {
+      const Eigen::RowVector3d row = n->transpose() * J;
+      H += row.transpose() * row;
+      g += row.transpose() * n->dot(r);
+    } else {
+      H += J.transpose() * J;
+      g += J.transpose() * r;
+    }
+  }
+  if (fix_rotation) {
+    H.row(2).setZero();
+    H.col(2).setZero();
+    H(2, 2) = 1.0;
+    g(2) = 0.0;
+  }
+  H += 1e-9 * (H.trace() + 1.0) * Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d d = H.ldlt().solve(-g);
+  if (!d.allFinite()) return SE2{};
+  return SE2{d.x(), d.y(), d.z()};
+}
+
 }  // namespace
 
 IcpResult icp_2d(const std::vector<Eigen::Vector2d>& source,
@@ -218,6 +254,14 @@ IcpResult icp_2d(const std::vector<Eigen::Vector2d>& source,
   matches.reserve(source.size());
   SE2 T = initial;
   Eigen::Vector3d prev_step = Eigen::Vector3d::Zero();
+  const bool to_line = config.metric == IcpConfig::Metric::kPointToLine;
+  // Point-to-line: each target point's line normal, found the first time it is matched.
+  std::vector<std::optional<Eigen::Vector2d>> normals;
+  std::vector<uint8_t> have_normal;
+  if (to_line) {
+    normals.resize(target.size());
+    have_normal.assign(target.size(), 0);
+  }
   std::vector<double> d2s;
   const auto trimmed_cost = [&](const SE2& X) {
     d2s.clear();
@@ -256,13 +300,21 @@ IcpResult icp_2d(const std::vector<Eigen::Vector2d>& source,
     // Solve for the increment that maps the currently transformed source onto the target.
     std::vector<Eigen::Vector2d> moved(source.size());
     for (const Match& m : matches) moved[m.source] = T * source[m.source];
-    const SE2 dT = align(moved, target, matches, config.fix_rotation);
+    if (to_line) {
+      for (const Match& m : matches) {
+        if (have_normal[m.target]) continue;
+        normals[m.target] = line_normal(target, grid, m.target, config.line_radius_m, config.line_ratio);
+        have_normal[m.target] = 1;
+      }
+    }
+    const SE2 dT = to_line ? align_point_to_line(moved, target, matches, normals, config.fix_rotation)
+                           : align(moved, target, matches, config.fix_rotation);
     const SE2 before = T;
     T = dT * T;
     // Besl & McKay's accelerated ICP: when successive steps in (x, y, L·θ) point the same
     // way and shrink, jump ahead by the geometric tail of the sequence (capped). Plain
     // point-to-point ICP crawls on sparse sonar clouds and stops near its initial guess.
-    if (config.accelerate) {
+    if (config.accelerate && !to_line) {  // Gauss-Newton on lines does not crawl
       const Eigen::Vector3d step(T.x - before.x, T.y - before.y,
                                  kRotationScaleM * wrap_angle(T.theta - before.theta));
       const double n = step.norm(), np = prev_step.norm();

@@ -1,8 +1,10 @@
 #pragma once
-// 2D point-to-point ICP with trimming (SPEC §5), deterministic: nearest neighbours from a
-// sorted uniform grid, correspondences trimmed by distance with index tie-breaks.
+// 2D point-to-point ICP with trimming (SPEC §5; point-to-line as an option), deterministic:
+// nearest neighbours from a sorted uniform grid, correspondences trimmed by distance with
+// index tie-breaks.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/geometry.hpp"
@@ -10,6 +12,16 @@
 namespace orthosonar::slam {
 
 struct IcpConfig {
+  // What each iteration minimises (docs/SLAM.md "Heading drift on the AHRS", tried and not
+  // a default: it did not move the sonar matches' heading error): the squared
+  // distance to the nearest target point (SPEC §5, Besl & McKay 1992), or, where the target
+  // is locally a line, the squared distance to that line (Censi 2008, "An ICP variant using
+  // a point-to-line metric"; isolated points keep point-to-point rows). A wall's voxel
+  // centroids are then not pulled along it to the other cloud's centroids.
+  enum class Metric : uint8_t { kPointToPoint, kPointToLine };
+  Metric metric = Metric::kPointToPoint;
+  double line_radius_m = 1.0;  // point-to-line: target neighbourhood of a line's normal
+  double line_ratio = 0.1;     // ...PCA eigenvalue ratio below which it is a line
   int max_iterations = 40;
   double max_correspondence_m = 3.0;
   double trim_fraction = 0.8;          // keep the best fraction of source points' matches...
@@ -24,6 +36,11 @@ struct IcpConfig {
   // the fit could find it, e.g. a FOG's: keyframe_slam.hpp nssm_fixed_heading_gyro).
   bool fix_rotation = false;
 };
+
+constexpr IcpConfig::Metric kIcpMetrics[] = {IcpConfig::Metric::kPointToPoint, IcpConfig::Metric::kPointToLine};
+constexpr const char* icp_metric_name(IcpConfig::Metric m) {
+  return m == IcpConfig::Metric::kPointToLine ? "point_to_line" : "point_to_point";
+}
 
 struct IcpResult {
   SE2 T_target_source;  // maps source points into the target frame
@@ -91,5 +108,11 @@ class Grid2d {
   std::vector<uint32_t> starts_;
   long long min_cx_ = 0, min_cy_ = 0, nx_ = 0, ny_ = 0;
 };
+
+// The unit normal of the target around target[j] when its neighbours within radius_m (at
+// least three, `grid` built over `target`) lie along a line: PCA's smaller eigenvalue at most
+// line_ratio × the larger. nullopt otherwise (a corner, a piling, too few neighbours).
+std::optional<Eigen::Vector2d> line_normal(const std::vector<Eigen::Vector2d>& target, const Grid2d& grid,
+                                           size_t j, double radius_m, double line_ratio);
 
 }  // namespace orthosonar::slam

@@ -111,6 +111,10 @@ bool KeyframeSlam::should_add(const SE3& T_W_V_dr) const {
   return dist >= config_.kf_distance_m || dyaw >= config_.kf_rotation_deg * kDegToRad;
 }
 
+double KeyframeSlam::drift_sigma_dps() const {
+  return dr_from_sensors_ ? config_.heading_drift_sigma_gyro_dps : config_.heading_drift_sigma_dps;
+}
+
 size_t KeyframeSlam::accepted_loop_closures() const {
   return static_cast<size_t>(std::count_if(factors_.begin(), factors_.end(), [](const Factor& f) {
     return f.kind == FactorKind::kLoopClosure && f.accepted;
@@ -158,7 +162,7 @@ int KeyframeSlam::add_keyframe(Time stamp, const SE3& T_W_V_dr,
   const bool linked = id > 0 && link_heading(id);
   // No loop closure joined the graph: the new keyframe hangs off the previous one alone,
   // and the optimum of the rest is the one already solved (solve_leaf_pose).
-  const bool drift_update = config_.heading_drift_sigma_dps > 0.0 && config_.heading_drift_every_keyframes > 0 &&
+  const bool drift_update = drift_sigma_dps() > 0.0 && config_.heading_drift_every_keyframes > 0 &&
                             id % config_.heading_drift_every_keyframes == 0;
   solve(id > 0 && accepted_loop_closures() == loops_before && !drift_update && !linked ? id : -1);
   return id;
@@ -375,7 +379,9 @@ void KeyframeSlam::loop_closure(int id) {
 }
 
 bool KeyframeSlam::disagrees_with_chain(const Factor& loop) const {
-  if (config_.nssm_max_mahalanobis <= 0.0) return false;
+  const bool heading_sigmas = !dr_from_sensors_ && config_.nssm_max_heading_sigmas > 0.0;
+  const bool heading_gyro = dr_from_sensors_ && config_.nssm_max_heading_diff_gyro_deg > 0.0;
+  if (config_.nssm_max_mahalanobis <= 0.0 && !heading_sigmas && !heading_gyro) return false;
   // The loop against the graph's own estimate of the same relative pose, with the odometry
   // chain's covariance: an ICP that converged to another local minimum metres or degrees
   // away is rejected here even when several such loops agree with one another (PCM).
@@ -383,11 +389,18 @@ bool KeyframeSlam::disagrees_with_chain(const Factor& loop) const {
   const SE2 diff = chain.T.inverse() * loop.T_from_to;
   const Eigen::Vector3d d(diff.x, diff.y, wrap_angle(diff.theta));
   const Eigen::Matrix3d joint = chain.cov + loop.covariance();
-  if (!(squared_mahalanobis(d, joint) <= config_.nssm_max_mahalanobis)) return true;
+  if (config_.nssm_max_mahalanobis > 0.0 && !(squared_mahalanobis(d, joint) <= config_.nssm_max_mahalanobis))
+    return true;
+  // On an AHRS the loop's graph sigma (sigma_loop, 0.05 rad) is loose on purpose, and the
+  // joint test above lets a loop through that is turned by several degrees more than the
+  // chain can have drifted: its heading is tested alone, against the chain's heading sigma
+  // and what one scan match's fit knows (sigma_icp), as the gyro's is below.
+  if (heading_sigmas && !(std::abs(d.z()) <= config_.nssm_max_heading_sigmas *
+                                                 std::sqrt(chain.cov(2, 2) + config_.sigma_icp.z() * config_.sigma_icp.z())))
+    return true;
   // With a FOG's heading the chain knows the relative heading to hundredths of a degree; a
   // loop turned by more than this is ICP's other minimum, whatever its translation says.
-  return dr_from_sensors_ && config_.nssm_max_heading_diff_gyro_deg > 0.0 &&
-         std::abs(d.z()) > config_.nssm_max_heading_diff_gyro_deg * kDegToRad;
+  return heading_gyro && std::abs(d.z()) > config_.nssm_max_heading_diff_gyro_deg * kDegToRad;
 }
 
 UncertainSE2 KeyframeSlam::odometry_between(int i, int j) const {
@@ -444,7 +457,7 @@ void KeyframeSlam::accept_loop(size_t factor, size_t clique_size) {
 void KeyframeSlam::solve(int leaf) {
   std::vector<GraphEdge> edges;
   edges.reserve(factors_.size());
-  const bool drifting = config_.heading_drift_sigma_dps > 0.0;
+  const bool drifting = drift_sigma_dps() > 0.0;
   std::vector<size_t> loops;  // factor index of each loop edge in `edges`, in order
   for (size_t i = 0; i < factors_.size(); ++i) {
     Factor& f = factors_[i];
@@ -468,7 +481,7 @@ void KeyframeSlam::solve(int leaf) {
     // The drift rate is held with the rest of the graph (the next full solve moves it).
     last_solve_ = solve_leaf_pose(poses_, leaf, edges, config_.solver, heading_drift_rad_s_);
   } else {
-    HeadingDrift drift{heading_drift_rad_s_, config_.heading_drift_sigma_dps * kDegToRad};
+    HeadingDrift drift{heading_drift_rad_s_, drift_sigma_dps() * kDegToRad};
     last_solve_ = solve_pose_graph(poses_, factors_.front().T_from_to, config_.sigma_prior, edges,
                                    config_.solver, &drift);
     heading_drift_rad_s_ = drift.rate_rad_s;

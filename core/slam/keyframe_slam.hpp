@@ -82,6 +82,11 @@ struct SlamConfig {
   // factor is the sensors' (a FOG heading), a loop candidate whose heading differs from the
   // odometry chain's by more than this is not a candidate either. 0 = off.
   double nssm_max_heading_diff_gyro_deg = 0.5;
+  // Addition (docs/SLAM.md "Heading drift on the AHRS"): when the DR factor is not the
+  // sensors' (an AHRS heading), a loop candidate whose heading differs from the odometry
+  // chain's by more than this many sigmas (the chain's heading sigma and sigma_icp's, in
+  // quadrature) is not a candidate either. 0 = off.
+  double nssm_max_heading_sigmas = 3.0;
   // Addition (docs/SLAM.md "Loops at the FOG's heading"): when the DR factor is the
   // sensors' (a FOG heading), a loop candidate's ICP solves for translation only, at the
   // graph's relative heading, and the loop factor carries no heading information of its own.
@@ -136,8 +141,13 @@ struct SlamConfig {
   // drift of the DR heading (gyro bias, AHRS drift), estimated in the graph at every full
   // solve and taken out of each DR factor's yaw (rate × the keyframes' time apart). A
   // scan-match chain and DR disagree about heading at that rate; loop closures tell which
-  // is right. 0 = off (DR yaw increments as measured).
-  double heading_drift_sigma_dps = 0.0;
+  // is right. 0 = off (DR yaw increments as measured). This one applies when the DR factor
+  // is not the sensors' (an AHRS heading, dr_sigma_model): 0.005 °/s, a MEMS AHRS's steady
+  // drift (~18 °/h); on by default since 2026-12-08 (docs/SLAM.md "Heading drift on the AHRS").
+  double heading_drift_sigma_dps = 0.005;
+  // The same when the DR factor is the sensors' (a fibre-optic gyro's heading, whose bias is
+  // in the DR factor's heading sigma already: dr.gyro_bias_dph). 0 = off.
+  double heading_drift_sigma_gyro_dps = 0.0;
   // With the drift estimated: also re-solve the whole graph (and the rate) every this many
   // keyframes when no loop closure has, so a drift is taken out before the first loop
   // closes (0 = only at loop closures).
@@ -241,9 +251,12 @@ class KeyframeSlam {
   const std::vector<Keyframe>& keyframes() const { return keyframes_; }
   const std::vector<Factor>& factors() const { return factors_; }
   size_t accepted_loop_closures() const;
+  // The heading-drift prior in use (deg/s): heading_drift_sigma_dps, or its gyro form when
+  // the DR factor is the sensors' (known from the first keyframe on).
+  double drift_sigma_dps() const;
   const SlamConfig& config() const { return config_; }
   const PoseGraphSummary& last_solve() const { return last_solve_; }
-  // The estimated drift of the DR heading (rad/s; 0 when heading_drift_sigma_dps is 0).
+  // The estimated drift of the DR heading (rad/s; 0 when drift_sigma_dps() is 0).
   double heading_drift_rad_s() const { return heading_drift_rad_s_; }
   // Heap bytes (core/memory.hpp) of the keyframes' planar clouds, and of the pose graph
   // (factors, estimates, per-keyframe bookkeeping).

@@ -201,7 +201,9 @@ TEST_CASE("Synthetic basin, a steadily drifting DR heading: the graph estimates 
   const auto ate_dr_r = ate_rmse(p_dr, p_truth);
   REQUIRE(ate_dr_r.ok());
   const double ate_dr = *ate_dr_r;
-  const auto [ate_plain, rate_plain] = fly(SlamConfig{});
+  SlamConfig plain;
+  plain.heading_drift_sigma_dps = 0.0;
+  const auto [ate_plain, rate_plain] = fly(plain);
   SlamConfig drifting;
   drifting.heading_drift_sigma_dps = 0.5;
   drifting.heading_drift_every_keyframes = 10;
@@ -246,6 +248,7 @@ TEST_CASE("Loop candidates that agree with one another but not with the odometry
   // pull, docs/SLAM.md "Robust losses".)
   SlamConfig off;
   off.nssm_max_mahalanobis = 0.0;
+  off.nssm_max_heading_sigmas = 0.0;
   off.loop_loss = GraphEdge::Loss::kNone;
   const KeyframeSlam without = fly(off);
   // The gate at χ²(0.99, 3) rather than the default 30: with the default loop sigma of
@@ -275,6 +278,79 @@ TEST_CASE("Loop candidates that agree with one another but not with the odometry
   CHECK(rejected >= 2);
   CHECK(with.accepted_loop_closures() >= 1);  // the honest loops still close
   CHECK(ate_with <= ate_without + 0.02);  // near-exact DR here: the gate changes little else
+}
+
+TEST_CASE("On an AHRS a loop turned further than the chain can have drifted is no candidate", "[unit]") {
+  // As above, but five keyframes' scans are turned by 9 degrees and barely moved: the joint
+  // gate (off here, and loose on an AHRS with sigma_loop's 0.05 rad) and PCM let such loops
+  // through; the heading gate (nssm_max_heading_sigmas) tests the heading alone against the
+  // chain's heading sigma and one scan match's (docs/SLAM.md "Heading drift on the AHRS").
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
+  const auto dr = drifting_odometry(truth, 0.0, 0.0002, 0.01, 9);
+  const size_t first_bad = truth.size() / 2 + 2, last_bad = first_bad + 4;
+  const SE2 turned{0.1, 0.0, 0.157};
+  const auto fly = [&](const SlamConfig& config) {
+    KeyframeSlam slam(config);
+    for (size_t i = 0; i < truth.size(); ++i) {
+      const bool bad = i >= first_bad && i <= last_bad;
+      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]),
+                        synthetic_scan_V(world, bad ? truth[i] * turned : truth[i], {}, 1, i));
+      REQUIRE(slam.last_solve().usable);
+    }
+    return slam;
+  };
+  const auto turned_loops = [&](const KeyframeSlam& slam, bool accepted) {
+    int n = 0;
+    for (const auto& f : slam.factors()) {
+      n += f.kind == FactorKind::kLoopClosure && f.accepted == accepted && f.to >= static_cast<int>(first_bad) &&
+           f.to <= static_cast<int>(last_bad) && std::abs(wrap_angle(f.T_from_to.theta - (dr[static_cast<size_t>(f.from)].inverse() * dr[static_cast<size_t>(f.to)]).theta)) > 0.1;
+    }
+    return n;
+  };
+  SlamConfig off;
+  off.nssm_max_mahalanobis = 0.0;
+  off.nssm_max_heading_sigmas = 0.0;
+  off.loop_loss = GraphEdge::Loss::kNone;
+  SlamConfig gated = off;
+  gated.nssm_max_heading_sigmas = 3.0;
+  const KeyframeSlam without = fly(off), with = fly(gated);
+  int rejected = 0;
+  for (const auto& f : with.factors()) rejected += f.reason.rfind("loop disagrees with the odometry chain", 0) == 0;
+  INFO("turned loops accepted without the gate " << turned_loops(without, true) << ", with it "
+       << turned_loops(with, true) << "; rejected by it " << rejected << "; loops accepted "
+       << without.accepted_loop_closures() << " -> " << with.accepted_loop_closures());
+  CHECK(turned_loops(without, true) >= 2);
+  CHECK(turned_loops(with, true) == 0);
+  CHECK(rejected >= 2);
+  CHECK(with.accepted_loop_closures() >= 1);  // the honest loops still close
+}
+
+TEST_CASE("The heading drift state is on for an AHRS heading by default and off with a gyro", "[unit]") {
+  const SlamConfig c;
+  CHECK(c.heading_drift_sigma_dps > 0.0);
+  CHECK(c.heading_drift_sigma_gyro_dps == 0.0);
+  const auto world = make_basin_world(5);
+  const auto truth = loop_route(30.0, 20.0, 3.0, 2);
+  // 0.003 rad per keyframe, keyframes 20 s apart: 1.5e-4 rad/s (0.0086 deg/s)
+  const auto dr = drifting_odometry(truth, 0.003, 0.0002, 0.01, 9);
+  const auto fly = [&](bool gyro) {
+    KeyframeSlam slam(c);
+    for (size_t i = 0; i < truth.size(); ++i) {
+      KeyframeSlam::DrSigma s;
+      if (gyro) {
+        s.heading_rad = 1e-4;
+        s.translation_m = 0.02;
+      }
+      slam.add_keyframe(Time::from_s(20 * static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i), s);
+    }
+    CHECK(slam.drift_sigma_dps() == (gyro ? 0.0 : c.heading_drift_sigma_dps));
+    return slam.heading_drift_rad_s();
+  };
+  const double ahrs = fly(false), gyro = fly(true);
+  INFO("rate found on the AHRS " << ahrs << " rad/s (simulated 1.5e-4), with a gyro " << gyro);
+  CHECK(ahrs > 0.5 * 1.5e-4);
+  CHECK(gyro == 0.0);
 }
 
 TEST_CASE("Heading links hold a chain of heading-biased scan matches to the DR heading", "[unit]") {

@@ -164,9 +164,11 @@ Table root_table(RunConfig& c) {
                       {"degeneracy_ratio", kKeys.real(s.degeneracy_ratio, 0.0, 1.0)},
                       {"nssm_max_mahalanobis", kKeys.real(s.nssm_max_mahalanobis, 0.0, 1e12)},
                       {"nssm_max_heading_diff_gyro_deg", kKeys.real(s.nssm_max_heading_diff_gyro_deg, 0.0, 180.0)},
+                      {"nssm_max_heading_sigmas", kKeys.real(s.nssm_max_heading_sigmas, 0.0, 1000.0)},
                       {"nssm_fixed_heading_gyro", kKeys.boolean(s.nssm_fixed_heading_gyro)},
                       {"nssm_target_same_pass", kKeys.boolean(s.nssm_target_same_pass)},
                       {"heading_drift_sigma_dps", kKeys.real(s.heading_drift_sigma_dps, 0.0, 10.0)},
+                      {"heading_drift_sigma_gyro_dps", kKeys.real(s.heading_drift_sigma_gyro_dps, 0.0, 10.0)},
                       {"heading_drift_every_keyframes", kKeys.integer(s.heading_drift_every_keyframes, 0, 1000000)},
                       {"heading_link_s", kKeys.real(s.heading_link_s, 0.0, 1e6)},
                       {"heading_link_walk_dps", kKeys.real(s.heading_link_walk_dps, 0.0, 10.0, true)},
@@ -220,7 +222,16 @@ Table root_table(RunConfig& c) {
                       {"icp", kKeys.nested([&s] {
                          return Table{{"max_iterations", kKeys.integer(s.icp.max_iterations, 1, 10000)},
                                       {"max_correspondence_m", kKeys.real(s.icp.max_correspondence_m, 0.0, 1000.0, true)},
-                                      {"trim_fraction", kKeys.real(s.icp.trim_fraction, 0.0, 1.0, true)}};
+                                      {"trim_fraction", kKeys.real(s.icp.trim_fraction, 0.0, 1.0, true)},
+                                      {"metric", kKeys.choice("point_to_point, point_to_line",
+                                                              [&s](const std::string& v) {
+                                                                for (auto m : slam::kIcpMetrics)
+                                                                  if (v == slam::icp_metric_name(m)) {
+                                                                    s.icp.metric = m;
+                                                                    return true;
+                                                                  }
+                                                                return false;
+                                                              })}};
                        })}};
        })},
       {"mapping", kKeys.nested([&c] {
@@ -336,10 +347,12 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"sigma_loop", {s.sigma_loop.x(), s.sigma_loop.y(), s.sigma_loop.z()}},
                 {"sigma_loop_gyro", {s.sigma_loop_gyro.x(), s.sigma_loop_gyro.y(), s.sigma_loop_gyro.z()}},
                 {"degeneracy_ratio", s.degeneracy_ratio},
-                {"nssm_max_heading_diff_gyro_deg", s.nssm_max_heading_diff_gyro_deg}, {"nssm_max_mahalanobis", s.nssm_max_mahalanobis},
+                {"nssm_max_heading_diff_gyro_deg", s.nssm_max_heading_diff_gyro_deg},
+                {"nssm_max_heading_sigmas", s.nssm_max_heading_sigmas}, {"nssm_max_mahalanobis", s.nssm_max_mahalanobis},
                 {"nssm_fixed_heading_gyro", s.nssm_fixed_heading_gyro},
                 {"nssm_target_same_pass", s.nssm_target_same_pass},
                 {"heading_drift_sigma_dps", s.heading_drift_sigma_dps},
+                {"heading_drift_sigma_gyro_dps", s.heading_drift_sigma_gyro_dps},
                 {"heading_drift_every_keyframes", s.heading_drift_every_keyframes},
                 {"heading_link_s", s.heading_link_s},
                 {"heading_link_walk_dps", s.heading_link_walk_dps},
@@ -361,7 +374,8 @@ nlohmann::json config_to_json(const RunConfig& c) {
                                      {"line_ratio", s.fit_information.line_ratio}}},
                 {"icp", {{"max_iterations", s.icp.max_iterations},
                          {"max_correspondence_m", s.icp.max_correspondence_m},
-                         {"trim_fraction", s.icp.trim_fraction}}}}},
+                         {"trim_fraction", s.icp.trim_fraction},
+                         {"metric", slam::icp_metric_name(s.icp.metric)}}}}},
       {"mapping", {{"fusion_batch_pairs", c.pipeline.fusion_batch_pairs},
                    {"max_elevation_sigma_deg", c.pipeline.max_elevation_sigma_deg}, {"voxel_m", c.voxel_m},
                    {"octomap_resolution_m", c.octomap_resolution_m}}},

@@ -207,7 +207,7 @@ Status write_run_outputs(const RunOutput& run, const RunOptions& options, const 
   summary["heading_error_dr"] = heading_json(run.heading_dr);
   summary["heading_error_slam"] = heading_json(run.heading_slam);
   summary["slam_factors"] = slam_factors_json(run.pipeline->slam());
-  if (run.pipeline->slam().config().heading_drift_sigma_dps > 0.0) {
+  if (run.pipeline->slam().drift_sigma_dps() > 0.0) {
     summary["slam_heading_drift_dps"] = run.pipeline->slam().heading_drift_rad_s() * 180.0 / std::numbers::pi;
   }
   // Points map.bt could not hold (OctoMap's key range is +-32768 x octomap_resolution_m):
