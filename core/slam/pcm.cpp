@@ -38,6 +38,8 @@ UncertainSE2 inverse(const UncertainSE2& a_b) {
   return out;
 }
 
+double squared_mahalanobis(const Eigen::Vector3d& d, const Eigen::Matrix3d& cov) { return d.dot(cov.ldlt().solve(d)); }
+
 double cycle_mahalanobis2(const UncertainSE2& z_i, const UncertainSE2& T_bi_bj,
                           const UncertainSE2& z_j, const UncertainSE2& T_aj_ai) {
   const UncertainSE2 cycle = compose(compose(compose(z_i, T_bi_bj), inverse(z_j)), T_aj_ai);

@@ -22,6 +22,10 @@ struct UncertainSE2 {
 UncertainSE2 compose(const UncertainSE2& a_b, const UncertainSE2& b_c);
 UncertainSE2 inverse(const UncertainSE2& a_b);
 
+// dᵀ cov⁻¹ d (cov by LDLT): the gates of scan matches against DR and of loops against the
+// odometry chain.
+double squared_mahalanobis(const Eigen::Vector3d& d, const Eigen::Matrix3d& cov);
+
 // Squared Mahalanobis norm of the cycle a_i -> b_i -> b_j -> a_j -> a_i, where
 // z_i = T_{a_i b_i} and z_j = T_{a_j b_j} are loop closures, T_bi_bj and T_aj_ai come from
 // the odometry (current estimates with their chain covariance).
