@@ -96,6 +96,11 @@ struct SlamConfig {
   // anchor's own pass), not keyframes of other passes whose relative poses carry the drift
   // between them.
   bool nssm_target_same_pass = false;
+  // Addition (docs/SLAM.md "Loop sources from several keyframes"): a loop's source
+  // aggregates the new keyframe and the nssm_source_frames - 1 before it, placed by the
+  // graph's estimates (the sequential chain), in the new keyframe's frame: a longer outline
+  // for the loop's heading. 1 = the new keyframe's cloud alone (SPEC).
+  int nssm_source_frames = 1;
   double nssm_max_rmse_m = 1.0;       // an ICP fit worse than this is not a candidate (PCM judges the rest)
   int pcm_queue = 5;
   double pcm_threshold = 11.34;       // chi-square 0.99, 3 dof (squared Mahalanobis)
@@ -216,6 +221,8 @@ struct Factor {
   // Loop closures: the largest distance along the DR path between the anchor and a keyframe
   // aggregated into the target (0: the anchor alone; slam.nssm_target_same_pass bounds it).
   double target_span_m = 0.0;
+  // Loop closures: how many keyframes the source aggregates (slam.nssm_source_frames).
+  int source_frames = 1;
   Eigen::Matrix3d information() const;  // diag(1/sigma) mixᵀ mix diag(1/sigma)
   Eigen::Matrix3d covariance() const;   // its inverse (unobserved directions: 1e6 × sigma²)
 };

@@ -49,7 +49,12 @@ void KeyframeSlam::loop_closure(int id) {
   const SE2 T_new_anchor = T_anchor_new.inverse();
   const auto target = gate_to_sonar_view(aggregate(ids, anchor), T_new_anchor, gate_range_m(),
                                          gate_fov_deg(), config_.sonar_x_m);
-  const auto source = seen_from(cur.cloud_V, T_W_new, ids);
+  // The source: the new keyframe's cloud, or that and its predecessors' (never the
+  // target's: they are nssm_min_separation keyframes back or more).
+  const int first_source = std::max({0, id - config_.nssm_source_frames + 1, newest_old + 1});
+  std::vector<int> source_ids;
+  for (int k = first_source; k <= id; ++k) source_ids.push_back(k);
+  const auto source = seen_from(source_ids.size() == 1 ? cur.cloud_V : aggregate(source_ids, id), T_W_new, ids);
   if (target.size() < config_.nssm_min_points || source.size() < config_.nssm_min_points) return;
   const bool fixed_heading = dr_from_sensors_ && config_.nssm_fixed_heading_gyro;
   IcpConfig icp_config = config_.icp;
@@ -65,6 +70,7 @@ void KeyframeSlam::loop_closure(int id) {
     f.sigma.x() = std::hypot(f.sigma.x(), grow);
     f.sigma.y() = std::hypot(f.sigma.y(), grow);
   }
+  f.source_frames = static_cast<int>(source_ids.size());
   for (int k : ids)
     f.target_span_m = std::max(f.target_span_m, std::abs(path_m_[static_cast<size_t>(k)] - path_m_[static_cast<size_t>(anchor)]));
   if (!icp.converged) {
