@@ -64,7 +64,8 @@ void KeyframeSlam::shape(Factor& f, const std::vector<Eigen::Vector2d>& source,
     f.mix.setZero();
     f.mix.topLeftCorner<2, 2>() = w.cwiseSqrt().asDiagonal() * V.transpose();
     f.weakened = weakened + 1;
-    f.reason += " (heading from the gyro";
+    f.heading_from_chain = true;
+    f.reason += " (heading from the chain";
     if (weakened > 0) f.reason += ", " + std::to_string(weakened) + " weak direction" + (weakened > 1 ? "s" : "");
     f.reason += ")";
     return;

@@ -96,6 +96,23 @@ struct SlamConfig {
   // anchor's own pass), not keyframes of other passes whose relative poses carry the drift
   // between them.
   bool nssm_target_same_pass = false;
+  // Addition (docs/SLAM.md "Loops from the same side"): when the DR factor is not the
+  // sensors' (an AHRS heading), loop candidates are only the older keyframes whose heading
+  // (the graph's estimate) is within this of the new keyframe's, so that the anchor and the
+  // target see the place from the same side: the sonar's 2D outline of a 3D structure
+  // changes with the view, and loops across it are biased in heading. 0 = off (tried for
+  // issue 33, not a default: routes that pass a structure from both sides lose the loops
+  // that held their heading).
+  double nssm_max_view_change_deg = 0.0;
+  // ...and when none is, the other keyframes in range: kNone never; kTranslation for a loop
+  // fitted in translation only at the chain's heading; kFull for a loop as any other (the
+  // only loops some routes have).
+  enum class OtherSide : uint8_t { kNone, kTranslation, kFull };
+  static constexpr OtherSide kOtherSides[] = {OtherSide::kNone, OtherSide::kTranslation, OtherSide::kFull};
+  static constexpr const char* other_side_name(OtherSide o) {
+    return o == OtherSide::kNone ? "none" : o == OtherSide::kTranslation ? "translation" : "full";
+  }
+  OtherSide nssm_other_side = OtherSide::kTranslation;
   // Addition (docs/SLAM.md "Loop sources from several keyframes"): a loop's source
   // aggregates the new keyframe and the nssm_source_frames - 1 before it, placed by the
   // graph's estimates (the sequential chain), in the new keyframe's frame: a longer outline
@@ -223,6 +240,9 @@ struct Factor {
   double target_span_m = 0.0;
   // Loop closures: how many keyframes the source aggregates (slam.nssm_source_frames).
   int source_frames = 1;
+  // Scan matches fitted in translation only, at the odometry chain's heading (their heading
+  // row carries no information): the reason says so at every stage.
+  bool heading_from_chain = false;
   Eigen::Matrix3d information() const;  // diag(1/sigma) mixᵀ mix diag(1/sigma)
   Eigen::Matrix3d covariance() const;   // its inverse (unobserved directions: 1e6 × sigma²)
 };

@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
-#include "core/slam/keyframe_slam_test_support.hpp"
 #include "core/slam/synthetic.hpp"
+#include "core/slam/test_support.hpp"
 
 using namespace orthosonar;
 using namespace orthosonar::slam;

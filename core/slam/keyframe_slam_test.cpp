@@ -7,8 +7,8 @@
 
 #include "core/random.hpp"
 #include "core/slam/dead_reckoning.hpp"
-#include "core/slam/keyframe_slam_test_support.hpp"
 #include "core/slam/synthetic.hpp"
+#include "core/slam/test_support.hpp"
 #include "core/slam/trajectory_error.hpp"
 
 using namespace orthosonar;
@@ -296,6 +296,69 @@ TEST_CASE("nssm_source_frames: a loop's source aggregates the new keyframe and t
   REQUIRE(a.from == b.from);
   REQUIRE(a.to == b.to);
   CHECK((a.T_from_to.x != b.T_from_to.x || a.T_from_to.y != b.T_from_to.y || a.T_from_to.theta != b.T_from_to.theta));
+}
+
+TEST_CASE("nssm_max_view_change_deg: on an AHRS loops join keyframes facing the same way, or are translation-only", "[unit]") {
+  // One lap of the basin, then the same lap driven the other way round: with the gate off
+  // (the default) the reversed lap closes loops on the first lap's keyframes, facing the
+  // other way. With the gate at 45 deg no loop joins keyframes turned further than that
+  // (from the graph's headings: the measured turn stays near it), so with nssm_other_side
+  // none the reversed lap has none; with translation (that option's default) it has them
+  // again, fitted in translation at the chain's heading, their heading carrying no
+  // information. With a FOG's DR factor the gate does not apply.
+  const auto world = make_basin_world(5);
+  std::vector<SE2> truth = loop_route(30.0, 20.0, 3.0, 1);
+  const size_t lap = truth.size();
+  for (size_t i = lap; i-- > 0;) truth.push_back(truth[i] * SE2{0.0, 0.0, std::numbers::pi});
+  const auto dr = drifting_odometry(truth, 0.001, 0.0002, 0.01, 9);
+  const auto fly = [&](const SlamConfig& config, KeyframeSlam::DrSigma sigma = {}) {
+    KeyframeSlam slam(config);
+    for (size_t i = 0; i < truth.size(); ++i)
+      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
+                        i == 0 ? KeyframeSlam::DrSigma{} : sigma);
+    CHECK(graph_connected(slam));
+    return slam;
+  };
+  const auto turned = [](const Factor& f) { return std::abs(wrap_angle(f.T_from_to.theta)); };
+  const auto reversed_loops = [&](const KeyframeSlam& slam) {
+    std::vector<Factor> out;
+    for (const auto& f : slam.factors())
+      if (f.kind == FactorKind::kLoopClosure && f.to >= static_cast<int>(lap) + 2 && f.from < static_cast<int>(lap) - 2)
+        out.push_back(f);
+    return out;
+  };
+  const auto facing_away = [&](const KeyframeSlam& slam) {
+    size_t n = 0;
+    for (const auto& f : reversed_loops(slam)) n += turned(f) > std::numbers::pi / 2.0 && !f.heading_from_chain;
+    return n;
+  };
+  const SlamConfig off;
+  CHECK(off.nssm_max_view_change_deg == 0.0);
+  const KeyframeSlam all = fly(off);
+  INFO("reversed-lap loop candidates with the gate off " << reversed_loops(all).size() << ", facing away "
+                                                         << facing_away(all));
+  REQUIRE(facing_away(all) >= 1);
+  SlamConfig translation_side;
+  translation_side.nssm_max_view_change_deg = 45.0;
+  CHECK(translation_side.nssm_other_side == SlamConfig::OtherSide::kTranslation);
+  CHECK(facing_away(fly(translation_side, {0.015, 0.0002})) >= 1);  // a FOG: the gate does not apply
+  SlamConfig gated = translation_side;
+  gated.nssm_other_side = SlamConfig::OtherSide::kNone;
+  const KeyframeSlam same_side = fly(gated);
+  CHECK(reversed_loops(same_side).empty());
+  for (const auto& f : same_side.factors())
+    if (f.kind == FactorKind::kLoopClosure) CHECK(turned(f) <= 50.0 * std::numbers::pi / 180.0);
+  const KeyframeSlam translation = fly(translation_side);
+  const auto fitted = reversed_loops(translation);
+  size_t shaped = 0;  // the fits that converged (the others are refused before shaping)
+  for (const auto& f : fitted) {
+    if (f.reason.rfind("icp", 0) == 0 || f.reason.rfind("too few", 0) == 0) continue;
+    ++shaped;
+    CHECK(f.heading_from_chain);
+    CHECK(f.reason.find("(heading from the chain") != std::string::npos);
+    CHECK(f.information()(2, 2) == 0.0);
+  }
+  CHECK(shaped >= 1);
 }
 
 TEST_CASE("Loops that share an error: each one's share is the sum of exp(-d / length) over the accepted loops", "[unit]") {

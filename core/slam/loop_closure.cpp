@@ -18,18 +18,30 @@ void KeyframeSlam::loop_closure(int id) {
   if (cur.cloud_V.size() < config_.nssm_min_points) return;
   const SE2& T_W_new = poses_[static_cast<size_t>(id)];
   const Eigen::Vector2d sonar_W = T_W_new * Eigen::Vector2d(config_.sonar_x_m, 0.0);
-  // Candidate keyframes: old enough and within sonar range, the nearest few (ties by id);
-  // the anchor is the nearest.
-  std::vector<std::pair<double, int>> near;
+  // Candidate keyframes: old enough, within sonar range and, on an AHRS, seen from the same
+  // side; the nearest few (ties by id); the anchor is the nearest. (With a FOG's heading a
+  // loop's own heading is gated to the chain's instead: disagrees_with_chain.)
+  const bool view_gate = !dr_from_sensors_ && config_.nssm_max_view_change_deg > 0.0;
+  std::vector<std::pair<double, int>> near, other_side;
   const double travelled = path_m_[static_cast<size_t>(id)];
   for (int k = 0; k <= newest_old; ++k) {
     // Also far enough back along the path: with dense keyframes, min_separation keyframes
     // can be a few metres of the same wall, and a "loop" there is a sequential match that
     // slides along it (docs/SLAM.md).
     if (travelled - path_m_[static_cast<size_t>(k)] < config_.nssm_min_travel_m) continue;
+    // Seen from the same side: the sonar's 2D outline of a 3D structure changes with the
+    // view (docs/SLAM.md "Loops from the same side").
+    const bool same_side = !view_gate ||
+                           std::abs(wrap_angle(poses_[static_cast<size_t>(k)].theta - T_W_new.theta)) <=
+                               config_.nssm_max_view_change_deg * kRadPerDeg;
     const double d = (poses_[static_cast<size_t>(k)].translation() - sonar_W).norm();
-    if (d <= config_.nssm_range_m) near.emplace_back(d, k);
+    if (d <= config_.nssm_range_m) (same_side ? near : other_side).emplace_back(d, k);
   }
+  // None from the same side: the other side's loops are biased in heading by the view (a
+  // degree on the aircraft): nssm_other_side says whether to take them, and how.
+  using OtherSide = SlamConfig::OtherSide;
+  const bool other_side_loop = near.empty() && !other_side.empty() && config_.nssm_other_side != OtherSide::kNone;
+  if (other_side_loop) near.swap(other_side);
   std::sort(near.begin(), near.end());
   if (near.size() > static_cast<size_t>(std::max(config_.nssm_max_target_frames, 1))) {
     near.resize(static_cast<size_t>(std::max(config_.nssm_max_target_frames, 1)));
@@ -56,7 +68,8 @@ void KeyframeSlam::loop_closure(int id) {
   for (int k = first_source; k <= id; ++k) source_ids.push_back(k);
   const auto source = seen_from(source_ids.size() == 1 ? cur.cloud_V : aggregate(source_ids, id), T_W_new, ids);
   if (target.size() < config_.nssm_min_points || source.size() < config_.nssm_min_points) return;
-  const bool fixed_heading = dr_from_sensors_ && config_.nssm_fixed_heading_gyro;
+  const bool fixed_heading = (dr_from_sensors_ && config_.nssm_fixed_heading_gyro) ||
+                             (other_side_loop && config_.nssm_other_side == OtherSide::kTranslation);
   IcpConfig icp_config = config_.icp;
   icp_config.fix_rotation = fixed_heading;
   const IcpResult icp = icp_2d(source, target, T_anchor_new, icp_config);
@@ -91,7 +104,7 @@ void KeyframeSlam::loop_closure(int id) {
   factors_.push_back(std::move(f));
   while (static_cast<int>(pcm_queue_.size()) > config_.pcm_queue) {
     Factor& old = factors_[static_cast<size_t>(pcm_queue_.front())];
-    if (!old.accepted) old.reason = "pcm rejected";
+    if (!old.accepted) old.reason = std::string("pcm rejected") + (old.heading_from_chain ? " (heading from the chain)" : "");
     pcm_queue_.erase(pcm_queue_.begin());
   }
   run_pcm();
@@ -154,7 +167,7 @@ void KeyframeSlam::run_pcm() {
 void KeyframeSlam::accept_loop(size_t factor, size_t clique_size) {
   Factor& f = factors_[factor];
   f.accepted = true;
-  f.reason = "pcm clique of " + std::to_string(clique_size);
+  f.reason = "pcm clique of " + std::to_string(clique_size) + (f.heading_from_chain ? " (heading from the chain)" : "");
   const double ell = config_.loop_correlation_m;
   if (ell > 0.0) {
     // Distances between the keyframes' DR positions: fixed once added, so a loop's share

@@ -168,6 +168,16 @@ Table root_table(RunConfig& c) {
                       {"nssm_fixed_heading_gyro", kKeys.boolean(s.nssm_fixed_heading_gyro)},
                       {"nssm_target_same_pass", kKeys.boolean(s.nssm_target_same_pass)},
                       {"nssm_source_frames", kKeys.integer(s.nssm_source_frames, 1, 1000)},
+                      {"nssm_max_view_change_deg", kKeys.real(s.nssm_max_view_change_deg, 0.0, 180.0)},
+                      {"nssm_other_side", kKeys.choice("none, translation, full",
+                                                                [&s](const std::string& v) {
+                                                                  for (auto o : slam::SlamConfig::kOtherSides)
+                                                                    if (v == slam::SlamConfig::other_side_name(o)) {
+                                                                      s.nssm_other_side = o;
+                                                                      return true;
+                                                                    }
+                                                                  return false;
+                                                                })},
                       {"heading_drift_sigma_dps", kKeys.real(s.heading_drift_sigma_dps, 0.0, 10.0)},
                       {"heading_drift_sigma_gyro_dps", kKeys.real(s.heading_drift_sigma_gyro_dps, 0.0, 10.0)},
                       {"heading_drift_every_keyframes", kKeys.integer(s.heading_drift_every_keyframes, 0, 1000000)},
@@ -353,6 +363,8 @@ nlohmann::json config_to_json(const RunConfig& c) {
                 {"nssm_fixed_heading_gyro", s.nssm_fixed_heading_gyro},
                 {"nssm_target_same_pass", s.nssm_target_same_pass},
                 {"nssm_source_frames", s.nssm_source_frames},
+                {"nssm_max_view_change_deg", s.nssm_max_view_change_deg},
+                {"nssm_other_side", slam::SlamConfig::other_side_name(s.nssm_other_side)},
                 {"heading_drift_sigma_dps", s.heading_drift_sigma_dps},
                 {"heading_drift_sigma_gyro_dps", s.heading_drift_sigma_gyro_dps},
                 {"heading_drift_every_keyframes", s.heading_drift_every_keyframes},
