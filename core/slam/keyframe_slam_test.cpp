@@ -312,12 +312,7 @@ TEST_CASE("nssm_max_view_change_deg: on an AHRS loops join keyframes facing the 
   for (size_t i = lap; i-- > 0;) truth.push_back(truth[i] * SE2{0.0, 0.0, std::numbers::pi});
   const auto dr = drifting_odometry(truth, 0.001, 0.0002, 0.01, 9);
   const auto fly = [&](const SlamConfig& config, KeyframeSlam::DrSigma sigma = {}) {
-    KeyframeSlam slam(config);
-    for (size_t i = 0; i < truth.size(); ++i)
-      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]), synthetic_scan_V(world, truth[i], {}, 1, i),
-                        i == 0 ? KeyframeSlam::DrSigma{} : sigma);
-    CHECK(graph_connected(slam));
-    return slam;
+    return fly_route(config, world, truth, dr, sigma);
   };
   const auto turned = [](const Factor& f) { return std::abs(wrap_angle(f.T_from_to.theta)); };
   const auto reversed_loops = [&](const KeyframeSlam& slam) {
