@@ -10,6 +10,14 @@
 #include <string>
 
 namespace orthosonar::slam {
+namespace {
+
+// A loop fitted in translation only says so at every stage of its reason.
+std::string with_heading_note(std::string reason, const Factor& f) {
+  return f.heading_from_chain ? reason + " (heading from the chain)" : reason;
+}
+
+}  // namespace
 
 void KeyframeSlam::loop_closure(int id) {
   const int newest_old = id - config_.nssm_min_separation;
@@ -31,11 +39,12 @@ void KeyframeSlam::loop_closure(int id) {
     if (travelled - path_m_[static_cast<size_t>(k)] < config_.nssm_min_travel_m) continue;
     // Seen from the same side: the sonar's 2D outline of a 3D structure changes with the
     // view (docs/SLAM.md "Loops from the same side").
+    const double d = (poses_[static_cast<size_t>(k)].translation() - sonar_W).norm();
+    if (d > config_.nssm_range_m) continue;
     const bool same_side = !view_gate ||
                            std::abs(wrap_angle(poses_[static_cast<size_t>(k)].theta - T_W_new.theta)) <=
                                config_.nssm_max_view_change_deg * kRadPerDeg;
-    const double d = (poses_[static_cast<size_t>(k)].translation() - sonar_W).norm();
-    if (d <= config_.nssm_range_m) (same_side ? near : other_side).emplace_back(d, k);
+    (same_side ? near : other_side).emplace_back(d, k);
   }
   // None from the same side: the other side's loops are biased in heading by the view (a
   // degree on the aircraft): nssm_other_side says whether to take them, and how.
@@ -66,7 +75,9 @@ void KeyframeSlam::loop_closure(int id) {
   const int first_source = std::max({0, id - config_.nssm_source_frames + 1, newest_old + 1});
   std::vector<int> source_ids;
   for (int k = first_source; k <= id; ++k) source_ids.push_back(k);
-  const auto source = seen_from(source_ids.size() == 1 ? cur.cloud_V : aggregate(source_ids, id), T_W_new, ids);
+  std::vector<Eigen::Vector2d> aggregated;  // only when the source is several keyframes
+  if (source_ids.size() > 1) aggregated = aggregate(source_ids, id);
+  const auto source = seen_from(source_ids.size() > 1 ? aggregated : cur.cloud_V, T_W_new, ids);
   if (target.size() < config_.nssm_min_points || source.size() < config_.nssm_min_points) return;
   const bool fixed_heading = (dr_from_sensors_ && config_.nssm_fixed_heading_gyro) ||
                              (other_side_loop && config_.nssm_other_side == OtherSide::kTranslation);
@@ -104,7 +115,7 @@ void KeyframeSlam::loop_closure(int id) {
   factors_.push_back(std::move(f));
   while (static_cast<int>(pcm_queue_.size()) > config_.pcm_queue) {
     Factor& old = factors_[static_cast<size_t>(pcm_queue_.front())];
-    if (!old.accepted) old.reason = std::string("pcm rejected") + (old.heading_from_chain ? " (heading from the chain)" : "");
+    if (!old.accepted) old.reason = with_heading_note("pcm rejected", old);
     pcm_queue_.erase(pcm_queue_.begin());
   }
   run_pcm();
@@ -167,7 +178,7 @@ void KeyframeSlam::run_pcm() {
 void KeyframeSlam::accept_loop(size_t factor, size_t clique_size) {
   Factor& f = factors_[factor];
   f.accepted = true;
-  f.reason = "pcm clique of " + std::to_string(clique_size) + (f.heading_from_chain ? " (heading from the chain)" : "");
+  f.reason = with_heading_note("pcm clique of " + std::to_string(clique_size), f);
   const double ell = config_.loop_correlation_m;
   if (ell > 0.0) {
     // Distances between the keyframes' DR positions: fixed once added, so a loop's share
