@@ -194,14 +194,7 @@ TEST_CASE("Loop candidates that agree with one another but not with the odometry
   const size_t first_bad = truth.size() / 4, last_bad = first_bad + 4;
   const SE2 offset{2.0, 2.0, 0.1};
   const auto fly = [&](const SlamConfig& config) {
-    KeyframeSlam slam(config);
-    for (size_t i = 0; i < truth.size(); ++i) {
-      const bool bad = i >= first_bad && i <= last_bad;
-      slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]),
-                        synthetic_scan_V(world, bad ? truth[i] * offset : truth[i], {}, 1, i));
-      REQUIRE(slam.last_solve().usable);
-    }
-    return slam;
+    return fly_misplaced(config, world, truth, dr, first_bad, last_bad, offset);
   };
   const auto loops_into_bad = [&](const KeyframeSlam& slam) {  // accepted ones
     int n = 0;

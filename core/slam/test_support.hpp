@@ -37,6 +37,21 @@ inline KeyframeSlam fly_route(const SlamConfig& config, const SyntheticWorld& wo
   return slam;
 }
 
+// Keyframes at the `dr` poses whose scans are taken at `truth`, except keyframes first..last,
+// scanned from truth * offset (misplaced by `offset` from where DR puts them). Every solve
+// must be usable.
+inline KeyframeSlam fly_misplaced(const SlamConfig& config, const SyntheticWorld& world, const std::vector<SE2>& truth,
+                                  const std::vector<SE2>& dr, size_t first, size_t last, const SE2& offset) {
+  KeyframeSlam slam(config);
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const bool misplaced = i >= first && i <= last;
+    slam.add_keyframe(Time::from_s(static_cast<int64_t>(i)), se3(dr[i]),
+                      synthetic_scan_V(world, misplaced ? truth[i] * offset : truth[i], {}, 1, i));
+    REQUIRE(slam.last_solve().usable);
+  }
+  return slam;
+}
+
 // Laps of the basin (30 x 20 m route, 3 m keyframes) with DR drifting 0.003 rad per
 // keyframe, flown by fly_route.
 inline KeyframeSlam fly_basin(const SlamConfig& config, int laps, KeyframeSlam::DrSigma sigma = {}) {
