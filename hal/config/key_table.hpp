@@ -4,6 +4,8 @@
 // each with its own wording (KeyTables::Wording).
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -101,6 +103,21 @@ class KeyTables {
   Entry boolean(bool& target) const;
   // One of the names in `range` ("a, b, c"); `set` applies a name and says whether it is one.
   Entry choice(std::string range, std::function<bool(const std::string&)> set) const;
+  // One of an enum's `values` by its name (`name(value)`), the range listing the names in
+  // that order.
+  template <class E, size_t N, class Name>
+  Entry choice_of(E& target, const E (&values)[N], Name name) const {
+    std::string range;
+    for (E v : values) range += (range.empty() ? "" : ", ") + std::string(name(v));
+    return choice(std::move(range), [&target, all = std::to_array(values), name](const std::string& s) {
+      for (E v : all)
+        if (s == name(v)) {
+          target = v;
+          return true;
+        }
+      return false;
+    });
+  }
   // A mount pose "x y z roll pitch yaw": six finite numbers, |x|,|y|,|z| <= 100 m, angles in [-2 pi, 2 pi].
   Entry pose(SE3& target) const;
   // A nested map, its table made when it is read.

@@ -169,42 +169,20 @@ Table root_table(RunConfig& c) {
                       {"nssm_target_same_pass", kKeys.boolean(s.nssm_target_same_pass)},
                       {"nssm_source_frames", kKeys.integer(s.nssm_source_frames, 1, 1000)},
                       {"nssm_max_view_change_deg", kKeys.real(s.nssm_max_view_change_deg, 0.0, 180.0)},
-                      {"nssm_other_side", kKeys.choice("none, translation, full",
-                                                                [&s](const std::string& v) {
-                                                                  for (auto o : slam::SlamConfig::kOtherSides)
-                                                                    if (v == slam::SlamConfig::other_side_name(o)) {
-                                                                      s.nssm_other_side = o;
-                                                                      return true;
-                                                                    }
-                                                                  return false;
-                                                                })},
+                      {"nssm_other_side", kKeys.choice_of(s.nssm_other_side, slam::SlamConfig::kOtherSides,
+                                                             slam::SlamConfig::other_side_name)},
                       {"heading_drift_sigma_dps", kKeys.real(s.heading_drift_sigma_dps, 0.0, 10.0)},
                       {"heading_drift_sigma_gyro_dps", kKeys.real(s.heading_drift_sigma_gyro_dps, 0.0, 10.0)},
                       {"heading_drift_every_keyframes", kKeys.integer(s.heading_drift_every_keyframes, 0, 1000000)},
                       {"heading_link_s", kKeys.real(s.heading_link_s, 0.0, 1e6)},
                       {"heading_link_walk_dps", kKeys.real(s.heading_link_walk_dps, 0.0, 10.0, true)},
                       {"heading_link_white_deg", kKeys.real(s.heading_link_white_deg, 0.0, 10.0)},
-                      {"loop_loss", kKeys.choice("none, huber, cauchy",
-                                           [&s](const std::string& v) {
-                                             for (slam::GraphEdge::Loss l : slam::kLosses)
-                                               if (v == slam::loss_name(l)) {
-                                                 s.loop_loss = l;
-                                                 return true;
-                                               }
-                                             return false;
-                                           })},
+                      {"loop_loss", kKeys.choice_of(s.loop_loss, slam::kLosses, slam::loss_name)},
                       {"loop_loss_scale", kKeys.real(s.loop_loss_scale, 0.0, 1000.0, true)},
                       {"loop_correlation_m", kKeys.real(s.loop_correlation_m, 0.0, 1000.0)},
                       {"sigma_loop_per_m", kKeys.real(s.sigma_loop_per_m, 0.0, 10.0)},
-                      {"dr_sigma_model", kKeys.choice("auto, constant, sensors",
-                                                [&s](const std::string& v) {
-                                                  for (auto m : slam::SlamConfig::kDrSigmaModels)
-                                                    if (v == slam::SlamConfig::dr_sigma_model_name(m)) {
-                                                      s.dr_sigma_model = m;
-                                                      return true;
-                                                    }
-                                                  return false;
-                                                })},
+                      {"dr_sigma_model", kKeys.choice_of(s.dr_sigma_model, slam::SlamConfig::kDrSigmaModels,
+                                                                   slam::SlamConfig::dr_sigma_model_name)},
                       {"dr_translation_sigma_min_m", kKeys.real(s.dr_translation_sigma_min_m, 0.0, 1000.0)},
                       {"solver", kKeys.nested([&s] {
                          auto& g = s.solver;
@@ -212,15 +190,8 @@ Table root_table(RunConfig& c) {
                                       {"function_tolerance", kKeys.real(g.function_tolerance, 0.0, 1.0)},
                                       {"initial_trust_region_radius", kKeys.real(g.initial_trust_region_radius, 0.0, 1e16, true)},
                                       {"model_agreement_stop", kKeys.real(g.model_agreement_stop, 0.0, 1.0)},
-                                      {"linear_solver", kKeys.choice("chain_pcg, sparse_cholesky",
-                                                                     [&g](const std::string& v) {
-                                                                       for (auto m : slam::kLinearSolvers)
-                                                                         if (v == slam::linear_solver_name(m)) {
-                                                                           g.linear_solver = m;
-                                                                           return true;
-                                                                         }
-                                                                       return false;
-                                                                     })},
+                                      {"linear_solver", kKeys.choice_of(g.linear_solver, slam::kLinearSolvers,
+                                                                        slam::linear_solver_name)},
                                       {"pcg_tolerance", kKeys.real(g.pcg_tolerance, 0.0, 1.0, true)},
                                       {"pcg_max_iterations", kKeys.integer(g.pcg_max_iterations, 1, 1000000)}};
                        })},
@@ -234,15 +205,7 @@ Table root_table(RunConfig& c) {
                          return Table{{"max_iterations", kKeys.integer(s.icp.max_iterations, 1, 10000)},
                                       {"max_correspondence_m", kKeys.real(s.icp.max_correspondence_m, 0.0, 1000.0, true)},
                                       {"trim_fraction", kKeys.real(s.icp.trim_fraction, 0.0, 1.0, true)},
-                                      {"metric", kKeys.choice("point_to_point, point_to_line",
-                                                              [&s](const std::string& v) {
-                                                                for (auto m : slam::kIcpMetrics)
-                                                                  if (v == slam::icp_metric_name(m)) {
-                                                                    s.icp.metric = m;
-                                                                    return true;
-                                                                  }
-                                                                return false;
-                                                              })}};
+                                      {"metric", kKeys.choice_of(s.icp.metric, slam::kIcpMetrics, slam::icp_metric_name)}};
                        })}};
        })},
       {"mapping", kKeys.nested([&c] {
